@@ -1,0 +1,11 @@
+//! Gaussian-mixture probability hypothesis density (GM-PHD) filter.
+//!
+//! Pure math: no I/O, no async. The recursion follows Vo & Ma 2006 and Pham's
+//! thesis (ch. 3.5, 4, 5.3): prediction with survival, birth and spawning;
+//! update with state-dependent detection probability and uniform clutter,
+//! linear (Kalman) or unscented; sequential multi-sensor correction; mixture
+//! reduction; labelled state extraction.
+
+pub mod gaussian;
+
+pub use gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
