@@ -6,6 +6,14 @@
 //! linear (Kalman) or unscented; sequential multi-sensor correction; mixture
 //! reduction; labelled state extraction.
 
+pub mod error;
 pub mod gaussian;
+pub mod linalg;
+pub mod measurement;
 
+pub use error::FilterError;
 pub use gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
+pub use measurement::{
+    BearingRange, Detection, Lidar, Measurement, MeasurementModel, MicPair, PinholeCamera,
+    PositionSensor,
+};

@@ -1,0 +1,200 @@
+//! Measurement models: what a sensor reports about an object at a world point.
+//!
+//! Every model maps a 3-D world point (metres, z up) to a measurement vector,
+//! knows its noise, its state-dependent detection probability and its uniform
+//! clutter. The filter turns an object state into a world point through the
+//! motion model (`MotionModel::position`), so the same sensor works with any
+//! motion model. Kinds and conventions follow the wire contract (PROTOCOL.md).
+
+mod bearing_range;
+mod camera;
+mod lidar;
+mod mic_pair;
+mod position;
+
+pub use bearing_range::BearingRange;
+pub use camera::PinholeCamera;
+pub use lidar::Lidar;
+pub use mic_pair::MicPair;
+pub use position::PositionSensor;
+
+use std::fmt::Debug;
+
+use nalgebra::{DMatrix, DVector, Vector3};
+
+use crate::error::{invalid, FilterError};
+use crate::linalg::{check_finite_vector, check_spd, wrap_angle};
+
+/// One measurement of a set, with an optional covariance of its own.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measurement {
+    /// The measured vector.
+    pub z: DVector<f64>,
+    /// When given, replaces the model's `noise_cov` for this measurement (e.g. a
+    /// camera agent that reports estimates of its own single-view filter).
+    pub cov: Option<DMatrix<f64>>,
+}
+
+impl Measurement {
+    /// A measurement with the model's default noise.
+    pub fn new(z: DVector<f64>) -> Self {
+        Self { z, cov: None }
+    }
+
+    /// A measurement with its own noise covariance.
+    pub fn with_cov(z: DVector<f64>, cov: DMatrix<f64>) -> Self {
+        Self { z, cov: Some(cov) }
+    }
+}
+
+/// Detection probability and clutter rate, the two numbers every sensor carries.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Detection {
+    /// Probability of detecting an object inside the field of view, in (0, 1].
+    pub probability: f64,
+    /// Mean number of false measurements per set (λ), ≥ 0, spread uniformly over
+    /// the measurement region.
+    pub clutter_rate: f64,
+}
+
+impl Detection {
+    /// Checked constructor.
+    pub fn new(probability: f64, clutter_rate: f64) -> Result<Self, FilterError> {
+        if !(probability > 0.0 && probability <= 1.0) {
+            return Err(invalid(
+                "detection probability",
+                format!("{probability} is not in (0, 1]"),
+            ));
+        }
+        if !(clutter_rate >= 0.0 && clutter_rate.is_finite()) {
+            return Err(invalid(
+                "clutter rate",
+                format!("{clutter_rate} is not a finite number >= 0"),
+            ));
+        }
+        Ok(Self {
+            probability,
+            clutter_rate,
+        })
+    }
+}
+
+/// A sensor's measurement model h(p) + noise, with its field of view and clutter.
+pub trait MeasurementModel: Send + Sync + Debug {
+    /// Dimension of one measurement vector.
+    fn dim(&self) -> usize;
+
+    /// Noise-free measurement h(p) of a 3-D world point.
+    fn measure(&self, p: &Vector3<f64>) -> DVector<f64>;
+
+    /// Measurement noise covariance R (dim × dim).
+    fn noise_cov(&self) -> DMatrix<f64>;
+
+    /// Detection probability of an object at world point `p`: the sensor's
+    /// probability inside its field of view, 0 outside it, behind a camera or out
+    /// of range.
+    fn detection_probability(&self, p: &Vector3<f64>) -> f64;
+
+    /// Mean number of clutter measurements per set (λ).
+    fn clutter_rate(&self) -> f64;
+
+    /// Uniform clutter density: 1 / volume of the measurement region.
+    fn clutter_density(&self) -> f64;
+
+    /// Clutter intensity κ(z) = λ · clutter density (uniform over the region).
+    fn clutter_intensity(&self) -> f64 {
+        self.clutter_rate() * self.clutter_density()
+    }
+
+    /// z − ẑ with angular components wrapped to [-pi, pi).
+    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64>;
+
+    /// `Some(d)` when h(p) = p[..d], i.e. the model is linear in the position and
+    /// the exact Kalman update applies; `None` for nonlinear models.
+    fn linear_position_dims(&self) -> Option<usize> {
+        None
+    }
+
+    /// Maps `dim()` uniforms in [0, 1) to a point of the measurement region,
+    /// uniformly distributed there when the inputs are (used to simulate clutter).
+    fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError>;
+
+    /// Checks one measurement against this model: size, finiteness, and that its
+    /// own covariance (if any) is symmetric positive definite of size dim × dim.
+    fn validate(&self, measurement: &Measurement) -> Result<(), FilterError> {
+        if measurement.z.len() != self.dim() {
+            return Err(FilterError::DimensionMismatch {
+                what: "measurement",
+                expected: self.dim(),
+                found: measurement.z.len(),
+            });
+        }
+        check_finite_vector(&measurement.z, "measurement")?;
+        if let Some(cov) = &measurement.cov {
+            check_spd(cov, self.dim(), "measurement covariance")?;
+        }
+        Ok(())
+    }
+}
+
+/// Checks a per-axis noise standard deviation list and returns the diagonal covariance.
+pub(crate) fn diagonal_noise(std: &[f64]) -> Result<DMatrix<f64>, FilterError> {
+    if let Some(bad) = std.iter().find(|s| !(**s > 0.0 && s.is_finite())) {
+        return Err(invalid(
+            "noise standard deviation",
+            format!("{bad} is not a finite number > 0"),
+        ));
+    }
+    Ok(DMatrix::from_diagonal(&DVector::from_iterator(
+        std.len(),
+        std.iter().map(|s| s * s),
+    )))
+}
+
+/// Checks that exactly `dim` uniforms in [0, 1] were given.
+pub(crate) fn check_uniforms(u: &[f64], dim: usize) -> Result<(), FilterError> {
+    if u.len() != dim {
+        return Err(FilterError::DimensionMismatch {
+            what: "clutter uniforms",
+            expected: dim,
+            found: u.len(),
+        });
+    }
+    if u.iter().any(|x| !(0.0..=1.0).contains(x)) {
+        return Err(invalid("clutter uniforms", "values must lie in [0, 1)"));
+    }
+    Ok(())
+}
+
+/// z − ẑ with the components listed in `angular` wrapped to [-pi, pi).
+pub(crate) fn wrapped_residual(
+    z: &DVector<f64>,
+    zhat: &DVector<f64>,
+    angular: &[usize],
+) -> DVector<f64> {
+    let mut r = z - zhat;
+    for &i in angular {
+        if i < r.len() {
+            r[i] = wrap_angle(r[i]);
+        }
+    }
+    r
+}
+
+/// Checks that a 3-D point given as an array is finite.
+pub(crate) fn finite_point(p: [f64; 3], name: &'static str) -> Result<Vector3<f64>, FilterError> {
+    if p.iter().all(|x| x.is_finite()) {
+        Ok(Vector3::from(p))
+    } else {
+        Err(FilterError::NonFinite { what: name })
+    }
+}
+
+/// Checks a strictly positive finite scalar.
+pub(crate) fn positive(value: f64, name: &'static str) -> Result<f64, FilterError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(invalid(name, format!("{value} is not a finite number > 0")))
+    }
+}
