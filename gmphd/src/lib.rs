@@ -6,14 +6,29 @@
 //! linear (Kalman) or unscented; sequential multi-sensor correction; mixture
 //! reduction; labelled state extraction.
 
+pub mod birth;
 pub mod error;
+pub mod filter;
 pub mod gaussian;
 pub mod linalg;
 pub mod measurement;
+pub mod motion;
+pub mod predict;
+pub mod reduce;
+pub mod spawn;
+pub mod ukf;
+pub mod update;
 
+pub use birth::{BirthModel, BirthTiming, GridBirth, GridBirthConfig, MixtureBirth};
 pub use error::FilterError;
+pub use filter::{FilterConfig, FilterState, GmPhdFilter};
 pub use gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 pub use measurement::{
     BearingRange, Detection, Lidar, Measurement, MeasurementModel, MicPair, PinholeCamera,
     PositionSensor,
 };
+pub use motion::{ConstantVelocity, CoordinatedTurn, MotionModel, RandomWalk};
+pub use predict::Survival;
+pub use reduce::{PruneMergeCap, Reducer};
+pub use spawn::{SpawnComponent, SpawnModel};
+pub use ukf::UnscentedParams;

@@ -1,0 +1,236 @@
+//! The GM-PHD filter: intensity, clock and labels, driven by predict / update / reduce.
+
+use serde::{Deserialize, Serialize};
+
+use crate::birth::BirthModel;
+use crate::error::{invalid, FilterError};
+use crate::gaussian::{GaussianMixture, LabelSource};
+use crate::linalg::{check_finite_vector, check_spd};
+use crate::measurement::{Measurement, MeasurementModel};
+use crate::motion::MotionModel;
+use crate::predict::{predict_intensity, PredictionStep, Survival};
+use crate::reduce::Reducer;
+use crate::spawn::SpawnModel;
+use crate::ukf::UnscentedParams;
+use crate::update::{update_intensity, UpdateStep};
+
+/// Settings of the recursion that are not models.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FilterConfig {
+    /// Probability that an object survives a prediction.
+    pub survival: Survival,
+    /// Unscented-transform parameters for nonlinear sensors.
+    pub unscented: UnscentedParams,
+}
+
+/// What a checkpoint holds: enough to resume the filter exactly.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FilterState {
+    /// The current intensity.
+    pub intensity: GaussianMixture,
+    /// Time stamp (s) the intensity refers to.
+    pub time: f64,
+    /// The next label the filter will hand out.
+    pub next_label: u64,
+}
+
+/// A GM-PHD filter over one state space, fed by any number of sensors.
+///
+/// Per time stamp: [`GmPhdFilter::predict_to`] once, then [`GmPhdFilter::update`]
+/// once per sensor that reported at that stamp — the sequential multi-sensor
+/// update of Pham 5.3.2, where each sensor's posterior is the next one's prior —
+/// then [`GmPhdFilter::reduce`].
+#[derive(Debug)]
+pub struct GmPhdFilter {
+    motion: Box<dyn MotionModel>,
+    birth: Box<dyn BirthModel>,
+    spawn: Option<SpawnModel>,
+    reducer: Box<dyn Reducer>,
+    config: FilterConfig,
+    intensity: GaussianMixture,
+    time: f64,
+    labels: LabelSource,
+}
+
+impl GmPhdFilter {
+    /// A filter with an empty intensity at `start_time` (s).
+    pub fn new(
+        motion: Box<dyn MotionModel>,
+        birth: Box<dyn BirthModel>,
+        reducer: Box<dyn Reducer>,
+        config: FilterConfig,
+        start_time: f64,
+    ) -> Result<Self, FilterError> {
+        config.survival.validate()?;
+        if birth.state_dim() != motion.state_dim() {
+            return Err(FilterError::DimensionMismatch {
+                what: "birth model state",
+                expected: motion.state_dim(),
+                found: birth.state_dim(),
+            });
+        }
+        if !start_time.is_finite() {
+            return Err(FilterError::NonFinite { what: "start time" });
+        }
+        Ok(Self {
+            motion,
+            birth,
+            spawn: None,
+            reducer,
+            config,
+            intensity: GaussianMixture::new(),
+            time: start_time,
+            labels: LabelSource::default(),
+        })
+    }
+
+    /// Adds Vo & Ma's spawning to the prediction.
+    pub fn with_spawn(mut self, spawn: SpawnModel) -> Result<Self, FilterError> {
+        if spawn.state_dim() != self.motion.state_dim() {
+            return Err(FilterError::DimensionMismatch {
+                what: "spawn model state",
+                expected: self.motion.state_dim(),
+                found: spawn.state_dim(),
+            });
+        }
+        self.spawn = Some(spawn);
+        Ok(self)
+    }
+
+    /// Replaces the intensity (e.g. a known initial prior). Labels already in it
+    /// are never handed out again.
+    pub fn set_intensity(&mut self, intensity: GaussianMixture) -> Result<(), FilterError> {
+        self.validate_mixture(&intensity)?;
+        self.skip_used_labels(&intensity);
+        self.intensity = intensity;
+        Ok(())
+    }
+
+    /// Predicts the intensity to time `t` (s): survival, spawning, births.
+    /// Predicting to the current time is a no-op (a second sensor at the same
+    /// stamp must not add births twice); an earlier time is an error.
+    pub fn predict_to(&mut self, t: f64) -> Result<(), FilterError> {
+        if !t.is_finite() {
+            return Err(FilterError::NonFinite {
+                what: "prediction time",
+            });
+        }
+        if t < self.time {
+            return Err(FilterError::TimeWentBackwards {
+                last: self.time,
+                requested: t,
+            });
+        }
+        if t == self.time {
+            return Ok(());
+        }
+        let dt = t - self.time;
+        let births = self.birth.birth(dt, &mut self.labels);
+        let step = PredictionStep {
+            motion: self.motion.as_ref(),
+            survival_probability: self.config.survival.probability(dt),
+            spawn: self.spawn.as_ref(),
+            dt,
+        };
+        self.intensity = predict_intensity(&self.intensity, &step, births, &mut self.labels)?;
+        self.time = t;
+        Ok(())
+    }
+
+    /// Corrects the intensity with one sensor's measurement set at the current
+    /// time; an empty set is information too (nothing was detected). On error the
+    /// intensity is left unchanged.
+    pub fn update(
+        &mut self,
+        sensor: &dyn MeasurementModel,
+        measurements: &[Measurement],
+    ) -> Result<(), FilterError> {
+        let step = UpdateStep {
+            motion: self.motion.as_ref(),
+            sensor,
+            unscented: &self.config.unscented,
+        };
+        self.intensity = update_intensity(&self.intensity, &step, measurements)?;
+        Ok(())
+    }
+
+    /// Prunes, merges and caps the intensity with the configured reducer.
+    pub fn reduce(&mut self) {
+        self.intensity = self.reducer.reduce(&self.intensity);
+    }
+
+    /// The current intensity.
+    pub fn intensity(&self) -> &GaussianMixture {
+        &self.intensity
+    }
+
+    /// The time stamp of the current intensity.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The motion model (maps states to world positions and velocities).
+    pub fn motion(&self) -> &dyn MotionModel {
+        self.motion.as_ref()
+    }
+
+    /// Expected number of objects: the total weight of the intensity.
+    pub fn expected_count(&self) -> f64 {
+        self.intensity.total_weight()
+    }
+
+    /// A checkpoint of the filter.
+    pub fn state(&self) -> FilterState {
+        FilterState {
+            intensity: self.intensity.clone(),
+            time: self.time,
+            next_label: self.labels.peek(),
+        }
+    }
+
+    /// Resumes from a checkpoint taken with [`GmPhdFilter::state`] (models and
+    /// configuration are not part of it). The label source continues after both
+    /// the saved next label and every label in the intensity.
+    pub fn restore(&mut self, state: FilterState) -> Result<(), FilterError> {
+        if !state.time.is_finite() {
+            return Err(FilterError::NonFinite {
+                what: "checkpoint time",
+            });
+        }
+        self.validate_mixture(&state.intensity)?;
+        self.labels = LabelSource::starting_at(state.next_label);
+        self.skip_used_labels(&state.intensity);
+        self.intensity = state.intensity;
+        self.time = state.time;
+        Ok(())
+    }
+
+    fn validate_mixture(&self, mixture: &GaussianMixture) -> Result<(), FilterError> {
+        let n = self.motion.state_dim();
+        for component in mixture.iter() {
+            if !(component.weight >= 0.0 && component.weight.is_finite()) {
+                return Err(invalid(
+                    "component weight",
+                    format!("{} is not a finite number >= 0", component.weight),
+                ));
+            }
+            if component.dim() != n {
+                return Err(FilterError::DimensionMismatch {
+                    what: "component mean",
+                    expected: n,
+                    found: component.dim(),
+                });
+            }
+            check_finite_vector(&component.mean, "component mean")?;
+            check_spd(&component.cov, n, "component covariance")?;
+        }
+        Ok(())
+    }
+
+    fn skip_used_labels(&mut self, mixture: &GaussianMixture) {
+        let highest = mixture.iter().map(|c| c.label.0).max().unwrap_or(0);
+        if highest >= self.labels.peek() {
+            self.labels = LabelSource::starting_at(highest + 1);
+        }
+    }
+}

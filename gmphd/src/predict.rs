@@ -1,0 +1,136 @@
+//! The GM-PHD prediction (Pham eq. 3.17; Vo & Ma 2006, Prop. 2):
+//! surviving components, spawned components and births.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{invalid, FilterError};
+use crate::gaussian::{Gaussian, GaussianMixture, LabelSource};
+use crate::motion::MotionModel;
+use crate::spawn::SpawnModel;
+
+/// Probability that an object survives a prediction.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Survival {
+    /// p_S per prediction, whatever its length (fixed-period filters).
+    PerStep(f64),
+    /// p_S over one second; over dt seconds the object survives with p_S^dt, so
+    /// irregular sensor intervals give a consistent death rate.
+    PerSecond(f64),
+}
+
+impl Survival {
+    /// Checks that the probability lies in [0, 1].
+    pub fn validate(&self) -> Result<(), FilterError> {
+        let p = match self {
+            Self::PerStep(p) | Self::PerSecond(p) => *p,
+        };
+        if (0.0..=1.0).contains(&p) {
+            Ok(())
+        } else {
+            Err(invalid(
+                "survival probability",
+                format!("{p} is not in [0, 1]"),
+            ))
+        }
+    }
+
+    /// Survival probability over a prediction of `dt` seconds.
+    pub fn probability(&self, dt: f64) -> f64 {
+        match self {
+            Self::PerStep(p) => *p,
+            Self::PerSecond(p) => p.powf(dt),
+        }
+    }
+}
+
+/// Everything a prediction needs besides the posterior itself.
+#[derive(Debug, Clone, Copy)]
+pub struct PredictionStep<'a> {
+    /// Single-object motion.
+    pub motion: &'a dyn MotionModel,
+    /// Survival probability over this step.
+    pub survival_probability: f64,
+    /// Spawn model, if objects spawn others.
+    pub spawn: Option<&'a SpawnModel>,
+    /// Length of the step in seconds (≥ 0).
+    pub dt: f64,
+}
+
+/// Predicts the posterior `posterior` over one step and appends `births`.
+///
+/// Surviving components keep their label (the track they belong to); spawned
+/// children get fresh labels from `labels`. Order of the result: survivors, then
+/// spawned children (by parent), then births — deterministic for a given input.
+pub fn predict_intensity(
+    posterior: &GaussianMixture,
+    step: &PredictionStep<'_>,
+    births: Vec<Gaussian>,
+    labels: &mut LabelSource,
+) -> Result<GaussianMixture, FilterError> {
+    let state_dim = step.motion.state_dim();
+    if let Some(bad) = births.iter().find(|g| g.dim() != state_dim) {
+        return Err(FilterError::DimensionMismatch {
+            what: "birth component",
+            expected: state_dim,
+            found: bad.dim(),
+        });
+    }
+    let mut components = Vec::with_capacity(posterior.len() + births.len());
+    if step.survival_probability > 0.0 {
+        for parent in posterior.iter() {
+            let (mean, cov) = step.motion.predict(&parent.mean, &parent.cov, step.dt)?;
+            components.push(Gaussian::new(
+                step.survival_probability * parent.weight,
+                mean,
+                cov,
+                parent.label,
+            ));
+        }
+    }
+    if let Some(spawn) = step.spawn {
+        for parent in posterior.iter() {
+            components.extend(spawn.spawn(parent, labels));
+        }
+    }
+    components.extend(births);
+    Ok(GaussianMixture::from_components(components))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gaussian::Label;
+    use crate::motion::ConstantVelocity;
+    use nalgebra::{DMatrix, DVector};
+
+    #[test]
+    fn survivors_keep_labels_and_births_follow() {
+        let motion = ConstantVelocity::new(2, 1.0).unwrap();
+        let posterior = GaussianMixture::from_components(vec![Gaussian::new(
+            0.5,
+            DVector::from_vec(vec![0.0, 0.0, 1.0, 2.0]),
+            DMatrix::identity(4, 4),
+            Label(9),
+        )]);
+        let birth = Gaussian::new(0.1, DVector::zeros(4), DMatrix::identity(4, 4), Label(10));
+        let step = PredictionStep {
+            motion: &motion,
+            survival_probability: Survival::PerSecond(0.81).probability(0.5),
+            spawn: None,
+            dt: 0.5,
+        };
+        let mut labels = LabelSource::starting_at(11);
+        let predicted = predict_intensity(&posterior, &step, vec![birth], &mut labels).unwrap();
+        assert_eq!(predicted.len(), 2);
+        assert!((predicted.components[0].weight - 0.45).abs() < 1e-12);
+        assert_eq!(predicted.components[0].label, Label(9));
+        assert_eq!(
+            predicted.components[0].mean.as_slice(),
+            &[0.5, 1.0, 1.0, 2.0]
+        );
+        assert_eq!(predicted.components[1].label, Label(10));
+        let wrong = Gaussian::new(0.1, DVector::zeros(2), DMatrix::identity(2, 2), Label(12));
+        assert!(predict_intensity(&posterior, &step, vec![wrong], &mut labels).is_err());
+        assert!(Survival::PerStep(1.5).validate().is_err());
+    }
+}

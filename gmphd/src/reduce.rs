@@ -1,0 +1,178 @@
+//! Mixture reduction: pruning, merging and capping (Vo & Ma 2006, Table II).
+
+use std::cmp::Ordering;
+use std::fmt::Debug;
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::error::{invalid, FilterError};
+use crate::gaussian::{Gaussian, GaussianMixture};
+use crate::linalg::{robust_cholesky, symmetrize};
+
+/// Keeps the number of Gaussian components bounded between updates.
+pub trait Reducer: Send + Sync + Debug {
+    /// The reduced mixture.
+    fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture;
+}
+
+/// Vo & Ma's reduction: drop components with weight ≤ T, merge every component
+/// within squared Mahalanobis distance U of the heaviest remaining one, keep at
+/// most J_max of the heaviest.
+///
+/// Deterministic: components are visited by weight (descending), ties broken by
+/// label then position in the input. A merged component takes the label of its
+/// heaviest member, so a track's identity survives merging.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PruneMergeCap {
+    prune_threshold: f64,
+    merge_threshold: f64,
+    max_components: usize,
+}
+
+impl PruneMergeCap {
+    /// `prune_threshold` T ≥ 0, `merge_threshold` U ≥ 0 (squared Mahalanobis
+    /// distance), `max_components` J_max ≥ 1.
+    pub fn new(
+        prune_threshold: f64,
+        merge_threshold: f64,
+        max_components: usize,
+    ) -> Result<Self, FilterError> {
+        if !(prune_threshold >= 0.0 && prune_threshold.is_finite()) {
+            return Err(invalid(
+                "prune threshold",
+                format!("{prune_threshold} is not >= 0"),
+            ));
+        }
+        if !(merge_threshold >= 0.0 && merge_threshold.is_finite()) {
+            return Err(invalid(
+                "merge threshold",
+                format!("{merge_threshold} is not >= 0"),
+            ));
+        }
+        if max_components == 0 {
+            return Err(invalid("max components", "must be at least 1"));
+        }
+        Ok(Self {
+            prune_threshold,
+            merge_threshold,
+            max_components,
+        })
+    }
+}
+
+/// Heaviest first, then smaller label, then earlier position.
+fn heaviest_first(a: (usize, &Gaussian), b: (usize, &Gaussian)) -> Ordering {
+    b.1.weight
+        .total_cmp(&a.1.weight)
+        .then(a.1.label.cmp(&b.1.label))
+        .then(a.0.cmp(&b.0))
+}
+
+/// Moment-matched merge of `members` (indices into `kept`), labelled by `kept[members[0]]`.
+fn merge(kept: &[&Gaussian], members: &[usize]) -> Gaussian {
+    let weight: f64 = members.iter().map(|&i| kept[i].weight).sum();
+    let dim = kept[members[0]].dim();
+    let mut mean = DVector::zeros(dim);
+    for &i in members {
+        mean += &kept[i].mean * kept[i].weight;
+    }
+    mean /= weight;
+    let mut cov = DMatrix::zeros(dim, dim);
+    for &i in members {
+        let d = &kept[i].mean - &mean;
+        cov += (&kept[i].cov + &d * d.transpose()) * kept[i].weight;
+    }
+    cov /= weight;
+    Gaussian::new(weight, mean, symmetrize(&cov), kept[members[0]].label)
+}
+
+impl Reducer for PruneMergeCap {
+    fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture {
+        let mut order: Vec<(usize, &Gaussian)> = mixture
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| g.weight > self.prune_threshold && g.weight.is_finite())
+            .collect();
+        order.sort_by(|a, b| heaviest_first(*a, *b));
+        let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
+        // Vo & Ma measure the distance with the candidate's own covariance P_i.
+        let factors: Vec<_> = kept.iter().map(|g| robust_cholesky(&g.cov)).collect();
+
+        let mut merged_into = vec![false; kept.len()];
+        let mut merged: Vec<Gaussian> = Vec::new();
+        for pivot in 0..kept.len() {
+            if merged_into[pivot] {
+                continue;
+            }
+            let mut members = vec![pivot];
+            merged_into[pivot] = true;
+            for i in pivot + 1..kept.len() {
+                if merged_into[i] || kept[i].dim() != kept[pivot].dim() {
+                    continue;
+                }
+                let d = &kept[i].mean - &kept[pivot].mean;
+                let distance = d.dot(&factors[i].solve(&d));
+                if distance <= self.merge_threshold {
+                    members.push(i);
+                    merged_into[i] = true;
+                }
+            }
+            merged.push(merge(&kept, &members));
+        }
+        let mut indexed: Vec<(usize, &Gaussian)> = merged.iter().enumerate().collect();
+        indexed.sort_by(|a, b| heaviest_first(*a, *b));
+        let components = indexed
+            .into_iter()
+            .take(self.max_components)
+            .map(|(_, g)| g.clone())
+            .collect();
+        GaussianMixture::from_components(components)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gaussian::Label;
+
+    fn component(weight: f64, x: f64, label: u64) -> Gaussian {
+        Gaussian::new(
+            weight,
+            DVector::from_vec(vec![x, 0.0]),
+            DMatrix::identity(2, 2),
+            Label(label),
+        )
+    }
+
+    #[test]
+    fn prunes_merges_and_caps_deterministically() {
+        let reducer = PruneMergeCap::new(1e-3, 4.0, 2).unwrap();
+        let mixture = GaussianMixture::from_components(vec![
+            component(0.3, 0.0, 5),
+            component(0.6, 1.0, 7),
+            component(1e-4, 0.5, 1),
+            component(0.2, 10.0, 2),
+            component(0.1, 20.0, 3),
+        ]);
+        let reduced = reducer.reduce(&mixture);
+        assert_eq!(reduced.len(), 2);
+        let first = &reduced.components[0];
+        assert!((first.weight - 0.9).abs() < 1e-12);
+        assert_eq!(first.label, Label(7));
+        assert!((first.mean[0] - 2.0 / 3.0).abs() < 1e-12);
+        // Spread of the merged means adds to the covariance: 1 + (0.3·(2/3)² + 0.6·(1/3)²)/0.9.
+        assert!((first.cov[(0, 0)] - (1.0 + 2.0 / 9.0)).abs() < 1e-12);
+        assert_eq!(reduced.components[1].label, Label(2));
+    }
+
+    #[test]
+    fn equal_weights_are_ordered_by_label() {
+        let reducer = PruneMergeCap::new(0.0, 0.0, 10).unwrap();
+        let mixture =
+            GaussianMixture::from_components(vec![component(0.5, 0.0, 9), component(0.5, 50.0, 4)]);
+        let labels: Vec<_> = reducer.reduce(&mixture).iter().map(|g| g.label).collect();
+        assert_eq!(labels, vec![Label(4), Label(9)]);
+        assert!(PruneMergeCap::new(-1.0, 4.0, 10).is_err());
+        assert!(PruneMergeCap::new(1e-5, 4.0, 0).is_err());
+    }
+}
