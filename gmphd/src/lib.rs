@@ -6,12 +6,14 @@
 //! linear (Kalman) or unscented; sequential multi-sensor correction; mixture
 //! reduction; labelled state extraction.
 
+pub mod assignment;
 pub mod birth;
 pub mod error;
 pub mod filter;
 pub mod gaussian;
 pub mod linalg;
 pub mod measurement;
+pub mod metrics;
 pub mod motion;
 pub mod predict;
 pub mod reduce;
