@@ -9,8 +9,10 @@
 pub mod assignment;
 pub mod birth;
 pub mod error;
+pub mod extract;
 pub mod filter;
 pub mod gaussian;
+pub mod labels;
 pub mod linalg;
 pub mod measurement;
 pub mod metrics;

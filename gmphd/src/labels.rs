@@ -1,0 +1,272 @@
+//! Label continuity by minimum-total-distance assignment (Pham's thesis, ch. 4).
+//!
+//! After each update, the previous step's estimates, predicted to now, are matched
+//! to the current estimates. A current estimate may only take the label of a
+//! previous estimate if that label is among the labels it *inherited* — the labels
+//! of the components it descends from, which after merging can be several (Pham's
+//! hypothesis label set `l̃ᴱ`). Among those allowed pairs the matching has the
+//! largest number of pairs and, among those, the least total distance (Hungarian
+//! algorithm), so two crossing objects keep their identities even where greedy
+//! nearest-neighbour pairing would swap them (Pham Fig. 4.3).
+//!
+//! A current estimate left unmatched takes the heaviest label of its inherited set
+//! that no other estimate took (a new object born from a birth component keeps the
+//! birth component's label), or a fresh label when all are taken. Labels in the
+//! result are therefore unique.
+//!
+//! Everything here is a pure function over plain data. [`writeback`] turns the
+//! result into labels on the mixture's components and derives inherited label sets
+//! from a mixture before reduction.
+
+mod writeback;
+
+pub use writeback::{apply_relabelling, inherited_label_sets};
+
+use crate::assignment::{min_cost_matching, AssignmentError, CostMatrix};
+use crate::gaussian::{Label, LabelSource};
+use nalgebra::DVector;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
+use thiserror::Error;
+
+/// Why label association failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LabelError {
+    /// A previous and a current estimate (or two estimates) differ in dimension.
+    #[error("state vectors differ in dimension: {expected} and {found}")]
+    DimensionMismatch {
+        /// Dimension of the first vector seen.
+        expected: usize,
+        /// Dimension of the offending vector.
+        found: usize,
+    },
+    /// A mean had a NaN or infinite entry.
+    #[error("an estimate has a non-finite state entry")]
+    NonFiniteState,
+    /// Two previous estimates carried the same label.
+    #[error("label {0} appears on more than one previous estimate")]
+    DuplicatePreviousLabel(u64),
+    /// A covariance could not be inverted when deriving inherited labels.
+    #[error("covariance of the component labelled {0} is not positive definite")]
+    SingularCovariance(u64),
+    /// An estimate points at a component that is not in the mixture.
+    #[error("estimate refers to component {index} but the mixture has {len}")]
+    SourceOutOfRange {
+        /// The offending component index.
+        index: usize,
+        /// Number of components in the mixture.
+        len: usize,
+    },
+    /// Estimates and relabelling have different lengths.
+    #[error("{estimates} estimates but {labels} new labels")]
+    LengthMismatch {
+        /// Number of estimates.
+        estimates: usize,
+        /// Number of labels in the relabelling.
+        labels: usize,
+    },
+    /// The optimal assignment rejected its cost matrix.
+    #[error(transparent)]
+    Assignment(#[from] AssignmentError),
+}
+
+/// The labels a current estimate may inherit, each with the weight it contributed.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct LabelSet {
+    /// Distinct labels with their summed contributing weight.
+    members: Vec<(Label, f64)>,
+}
+
+impl LabelSet {
+    /// An empty set.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The set of one label.
+    pub fn single(label: Label, weight: f64) -> Self {
+        Self {
+            members: vec![(label, weight)],
+        }
+    }
+
+    /// Adds `weight` to `label`'s contribution, inserting the label if absent.
+    pub fn insert(&mut self, label: Label, weight: f64) {
+        match self.members.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, w)) => *w += weight,
+            None => self.members.push((label, weight)),
+        }
+    }
+
+    /// True when `label` is in the set.
+    pub fn contains(&self, label: Label) -> bool {
+        self.members.iter().any(|(l, _)| *l == label)
+    }
+
+    /// Number of distinct labels.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// True when the set holds no label.
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+
+    /// Labels with their weights, heaviest first (ties: smaller label first).
+    pub fn heaviest_first(&self) -> Vec<(Label, f64)> {
+        let mut sorted = self.members.clone();
+        sorted.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+        sorted
+    }
+}
+
+impl FromIterator<(Label, f64)> for LabelSet {
+    fn from_iter<I: IntoIterator<Item = (Label, f64)>>(iter: I) -> Self {
+        let mut set = Self::new();
+        for (label, weight) in iter {
+            set.insert(label, weight);
+        }
+        set
+    }
+}
+
+/// A previous step's estimate, predicted to the current time by the caller.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PreviousEstimate {
+    /// Its label.
+    pub label: Label,
+    /// Its state predicted to the current time (`x̂_{k|k-1}`).
+    pub predicted: DVector<f64>,
+}
+
+/// A current estimate awaiting its label.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CurrentEstimate {
+    /// Its state `x̂_k`.
+    pub mean: DVector<f64>,
+    /// Its weight: heavier unmatched estimates choose their inherited label first.
+    pub weight: f64,
+    /// Labels it may take (the labels of the components it descends from).
+    pub inherited: LabelSet,
+}
+
+/// Where an estimate's new label came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LabelOrigin {
+    /// Matched to the previous estimate with this index; took its label.
+    Matched {
+        /// Index into the `previous` slice.
+        previous: usize,
+    },
+    /// Unmatched; took the heaviest inherited label no one else took.
+    Inherited,
+    /// Unmatched and every inherited label was taken; got a fresh label.
+    Fresh,
+}
+
+/// The result of label association: one label per current estimate, unique.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Relabelling {
+    /// `labels[i]` is the new label of current estimate `i`.
+    pub labels: Vec<Label>,
+    /// `origins[i]` says how `labels[i]` was chosen.
+    pub origins: Vec<LabelOrigin>,
+}
+
+/// Assigns labels to `current` estimates so that identities continue from
+/// `previous` (Pham ch. 4.2–4.3).
+///
+/// Distances are Euclidean over the full vectors given; pass positions only if
+/// velocities should not count. Fresh labels are drawn from `source`.
+pub fn associate_labels(
+    previous: &[PreviousEstimate],
+    current: &[CurrentEstimate],
+    source: &mut LabelSource,
+) -> Result<Relabelling, LabelError> {
+    check_states(
+        previous
+            .iter()
+            .map(|p| &p.predicted)
+            .chain(current.iter().map(|c| &c.mean)),
+    )?;
+    let mut seen = BTreeSet::new();
+    if let Some(dup) = previous.iter().find(|p| !seen.insert(p.label)) {
+        return Err(LabelError::DuplicatePreviousLabel(dup.label.0));
+    }
+
+    // Pham (4.2): an edge exists only where the previous label is inherited.
+    let costs = CostMatrix::from_fn(previous.len(), current.len(), |j, i| {
+        current[i]
+            .inherited
+            .contains(previous[j].label)
+            .then(|| (&current[i].mean - &previous[j].predicted).norm())
+    })?;
+    let mut labels: Vec<Option<Label>> = vec![None; current.len()];
+    let mut origins = vec![LabelOrigin::Fresh; current.len()];
+    let mut taken = BTreeSet::new();
+    for pair in min_cost_matching(&costs) {
+        labels[pair.col] = Some(previous[pair.row].label);
+        origins[pair.col] = LabelOrigin::Matched { previous: pair.row };
+        taken.insert(previous[pair.row].label);
+    }
+
+    let mut unmatched: Vec<usize> = (0..current.len())
+        .filter(|&i| labels[i].is_none())
+        .collect();
+    unmatched.sort_by(|&a, &b| {
+        current[b]
+            .weight
+            .total_cmp(&current[a].weight)
+            .then(a.cmp(&b))
+    });
+    for i in unmatched {
+        let inherited = current[i]
+            .inherited
+            .heaviest_first()
+            .into_iter()
+            .map(|(label, _)| label)
+            .find(|label| !taken.contains(label));
+        let label = match inherited {
+            Some(label) => {
+                origins[i] = LabelOrigin::Inherited;
+                label
+            }
+            None => fresh_unused(source, &taken),
+        };
+        taken.insert(label);
+        labels[i] = Some(label);
+    }
+    Ok(Relabelling {
+        labels: labels.into_iter().flatten().collect(),
+        origins,
+    })
+}
+
+/// A fresh label that is not already in use (a restored source could lag behind).
+fn fresh_unused(source: &mut LabelSource, taken: &BTreeSet<Label>) -> Label {
+    loop {
+        let label = source.fresh();
+        if !taken.contains(&label) {
+            return label;
+        }
+    }
+}
+
+/// Checks that all vectors share one dimension and are finite.
+fn check_states<'a>(states: impl Iterator<Item = &'a DVector<f64>>) -> Result<(), LabelError> {
+    let mut expected = None;
+    for state in states {
+        let dim = *expected.get_or_insert(state.len());
+        if state.len() != dim {
+            return Err(LabelError::DimensionMismatch {
+                expected: dim,
+                found: state.len(),
+            });
+        }
+        if state.iter().any(|v| !v.is_finite()) {
+            return Err(LabelError::NonFiniteState);
+        }
+    }
+    Ok(())
+}

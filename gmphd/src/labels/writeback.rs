@@ -1,0 +1,131 @@
+//! Bridges between label association and the mixture: deriving the labels an
+//! estimate inherited, and writing the chosen labels back onto components.
+
+use super::{LabelError, LabelSet, Relabelling};
+use crate::extract::Estimate;
+use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// The inherited label set of each estimate, derived from the mixture *before*
+/// reduction (Pham's `l̃ᴱ`).
+///
+/// Merging replaces a cluster of components by one, losing the members' labels.
+/// This recovers them with the merge criterion itself (Vo & Ma, Table II): a
+/// pre-reduction component `c` counts as an ancestor of estimate `x̂` when
+/// `(m_c − x̂)ᵀ P_c⁻¹ (m_c − x̂) ≤ merge_threshold`, and contributes its weight to
+/// its label. The estimate's own label is always in its set. Using the estimate's
+/// mean in place of the (unknown) heaviest member's mean makes this approximate at
+/// the cluster's edge; a reducer that records merges can build exact sets with
+/// [`LabelSet::from_iter`] instead.
+pub fn inherited_label_sets(
+    pre_reduction: &GaussianMixture,
+    estimates: &[Estimate],
+    merge_threshold: f64,
+) -> Result<Vec<LabelSet>, LabelError> {
+    super::check_states(
+        pre_reduction
+            .iter()
+            .map(|c| &c.mean)
+            .chain(estimates.iter().map(|e| &e.mean)),
+    )?;
+    let factors = pre_reduction
+        .iter()
+        .map(|c| {
+            c.cov
+                .clone()
+                .cholesky()
+                .ok_or(LabelError::SingularCovariance(c.label.0))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(estimates
+        .iter()
+        .map(|estimate| {
+            let mut set = LabelSet::single(estimate.label, estimate.weight);
+            for (component, factor) in pre_reduction.iter().zip(&factors) {
+                let diff = &component.mean - &estimate.mean;
+                let mahalanobis_sq = diff.dot(&factor.solve(&diff));
+                if mahalanobis_sq <= merge_threshold {
+                    set.insert(component.label, component.weight);
+                }
+            }
+            set
+        })
+        .collect())
+}
+
+/// Writes the labels chosen by [`super::associate_labels`] back onto the mixture
+/// the `estimates` were extracted from.
+///
+/// * Each estimate's source component takes the estimate's new label. A component
+///   that is the source of `k > 1` estimates (a weight-2 component yields two
+///   copies) is split into `k` equal-weight copies, one per new label, so that
+///   every identity owns a component of its own.
+/// * Every other component whose old label was the label of an owning estimate
+///   (`copy_index == 0`) follows that estimate's new label (the heaviest such
+///   estimate's, if several components shared the old label).
+/// * A remaining component whose old label is now used by a different group gets a
+///   fresh label from `source`, so that labels keep naming one group each; all
+///   other components keep their labels.
+pub fn apply_relabelling(
+    mixture: &mut GaussianMixture,
+    estimates: &[Estimate],
+    relabelling: &Relabelling,
+    source: &mut LabelSource,
+) -> Result<(), LabelError> {
+    if estimates.len() != relabelling.labels.len() {
+        return Err(LabelError::LengthMismatch {
+            estimates: estimates.len(),
+            labels: relabelling.labels.len(),
+        });
+    }
+    let len = mixture.len();
+    if let Some(bad) = estimates.iter().find(|e| e.source >= len) {
+        return Err(LabelError::SourceOutOfRange {
+            index: bad.source,
+            len,
+        });
+    }
+
+    let mut labels_by_source: BTreeMap<usize, Vec<Label>> = BTreeMap::new();
+    let mut group_rename: BTreeMap<Label, (f64, Label)> = BTreeMap::new();
+    for (estimate, &new_label) in estimates.iter().zip(&relabelling.labels) {
+        labels_by_source
+            .entry(estimate.source)
+            .or_default()
+            .push(new_label);
+        if !estimate.is_extra_copy() {
+            let entry = group_rename
+                .entry(estimate.label)
+                .or_insert((estimate.weight, new_label));
+            if estimate.weight > entry.0 {
+                *entry = (estimate.weight, new_label);
+            }
+        }
+    }
+    let claimed: BTreeSet<Label> = relabelling.labels.iter().copied().collect();
+
+    let old = std::mem::take(&mut mixture.components);
+    let mut fresh_for: BTreeMap<Label, Label> = BTreeMap::new();
+    for (index, component) in old.into_iter().enumerate() {
+        if let Some(new_labels) = labels_by_source.get(&index) {
+            let share = component.weight / new_labels.len() as f64;
+            for &label in new_labels {
+                mixture.components.push(Gaussian {
+                    weight: share,
+                    label,
+                    ..component.clone()
+                });
+            }
+            continue;
+        }
+        let label = match group_rename.get(&component.label) {
+            Some(&(_, renamed)) => renamed,
+            None if claimed.contains(&component.label) => *fresh_for
+                .entry(component.label)
+                .or_insert_with(|| super::fresh_unused(source, &claimed)),
+            None => component.label,
+        };
+        mixture.components.push(Gaussian { label, ..component });
+    }
+    Ok(())
+}
