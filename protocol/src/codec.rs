@@ -94,7 +94,9 @@ pub fn check_payload_size(size: usize) -> Result<(), ProtocolError> {
 pub fn encode<T: Serialize>(value: &T, format: WireFormat) -> Result<Vec<u8>, ProtocolError> {
     let bytes = match format {
         WireFormat::Json => serde_json::to_vec(value).map_err(ProtocolError::JsonEncode)?,
-        WireFormat::Postcard => postcard::to_stdvec(value).map_err(ProtocolError::PostcardEncode)?,
+        WireFormat::Postcard => {
+            postcard::to_stdvec(value).map_err(ProtocolError::PostcardEncode)?
+        }
     };
     check_payload_size(bytes.len())?;
     Ok(bytes)

@@ -146,7 +146,9 @@ pub enum ProtocolError {
     },
 
     /// A covariance matrix is not symmetric.
-    #[error("field {field} is not symmetric: [{row}][{col}] = {upper} but [{col}][{row}] = {lower}")]
+    #[error(
+        "field {field} is not symmetric: [{row}][{col}] = {upper} but [{col}][{row}] = {lower}"
+    )]
     NotSymmetric {
         /// Path of the matrix.
         field: String,
@@ -172,7 +174,9 @@ pub enum ProtocolError {
     },
 
     /// A measurement set names another sensor than the descriptor it is checked against.
-    #[error("measurement set is from sensor {set:?} but the descriptor is for sensor {descriptor:?}")]
+    #[error(
+        "measurement set is from sensor {set:?} but the descriptor is for sensor {descriptor:?}"
+    )]
     SensorMismatch {
         /// Sensor named by the set.
         set: String,

@@ -152,11 +152,20 @@ fn malformed(key: &str, expected: &'static str, reason: impl Into<String>) -> Pr
 }
 
 /// Splits `fusion/<site>/<rest...>` into the site and the remaining chunks.
-fn split_root<'k>(key: &'k str, expected: &'static str) -> Result<(Site, Vec<&'k str>), ProtocolError> {
+fn split_root<'k>(
+    key: &'k str,
+    expected: &'static str,
+) -> Result<(Site, Vec<&'k str>), ProtocolError> {
     let mut chunks = key.split('/');
     match chunks.next() {
         Some(ROOT) => {}
-        _ => return Err(malformed(key, expected, format!("it does not start with \"{ROOT}/\""))),
+        _ => {
+            return Err(malformed(
+                key,
+                expected,
+                format!("it does not start with \"{ROOT}/\""),
+            ))
+        }
     }
     let site = Site::new(chunks.next().unwrap_or(""))?;
     Ok((site, chunks.collect()))
@@ -174,7 +183,11 @@ pub fn parse_sensor_key(key: &str) -> Result<(Site, SensorId, SensorKeyKind), Pr
         ));
     };
     if *sensors != "sensors" {
-        return Err(malformed(key, EXPECTED, format!("chunk {sensors:?} should be \"sensors\"")));
+        return Err(malformed(
+            key,
+            EXPECTED,
+            format!("chunk {sensors:?} should be \"sensors\""),
+        ));
     }
     let sensor = SensorId::new(*sensor)?;
     let kind = SensorKeyKind::from_suffix(suffix).ok_or_else(|| {

@@ -36,6 +36,8 @@
 //! # Ok::<(), protocol::ProtocolError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod codec;
 #[cfg(feature = "zenoh")]
 mod codec_zenoh;

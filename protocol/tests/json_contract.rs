@@ -29,9 +29,15 @@ fn protocol_md_measurement_set_round_trips_with_null_covariances() {
     assert_eq!(set.covariances, None);
     assert_eq!(set.seq, 42);
     let written: Value = serde_json::from_slice(&encode(&set, WireFormat::Json).unwrap()).unwrap();
-    assert_eq!(written["covariances"], Value::Null, "null is written, not omitted");
-    let descriptor: SensorDescriptor = decode(CAMERA_DESCRIPTOR.as_bytes(), WireFormat::Json).unwrap();
-    set.validate_against(&descriptor).expect("the page's set fits the page's camera");
+    assert_eq!(
+        written["covariances"],
+        Value::Null,
+        "null is written, not omitted"
+    );
+    let descriptor: SensorDescriptor =
+        decode(CAMERA_DESCRIPTOR.as_bytes(), WireFormat::Json).unwrap();
+    set.validate_against(&descriptor)
+        .expect("the page's set fits the page's camera");
 }
 
 #[test]
@@ -69,7 +75,9 @@ fn every_sensor_kind_round_trips_and_validates() {
     ];
     for (literal, kind, dim) in cases {
         let descriptor: SensorDescriptor = assert_json_round_trip(literal);
-        descriptor.validate().unwrap_or_else(|e| panic!("{kind}: {e}"));
+        descriptor
+            .validate()
+            .unwrap_or_else(|e| panic!("{kind}: {e}"));
         assert_eq!(descriptor.model.kind(), kind);
         assert_eq!(descriptor.model.measurement_dim(), dim);
         let model: Value = serde_json::from_str(literal).unwrap();
@@ -89,7 +97,11 @@ fn mic_pair_speed_of_sound_defaults_to_343() {
     assert_eq!(mics.speed_of_sound, DEFAULT_SPEED_OF_SOUND);
     assert_eq!(DEFAULT_SPEED_OF_SOUND, 343.0);
     let written: Value = serde_json::to_value(&descriptor).unwrap();
-    assert_eq!(written["model"]["speed_of_sound"], json!(343.0), "the default is written out");
+    assert_eq!(
+        written["model"]["speed_of_sound"],
+        json!(343.0),
+        "the default is written out"
+    );
 }
 
 #[test]
@@ -162,7 +174,8 @@ fn unknown_field_and_unknown_kind_are_rejected_with_their_names() {
     let message = json_error::<MeasurementSet>(&misspelt);
     assert!(message.contains("unknown field `covariance`"), "{message}");
 
-    let extra_model_field = CAMERA_DESCRIPTOR.replace("\"image_size\"", "\"fov\": 1.0, \"image_size\"");
+    let extra_model_field =
+        CAMERA_DESCRIPTOR.replace("\"image_size\"", "\"fov\": 1.0, \"image_size\"");
     let message = json_error::<SensorDescriptor>(&extra_model_field);
     assert!(message.contains("unknown field `fov`"), "{message}");
 
@@ -188,7 +201,10 @@ fn wrong_shapes_are_json_decode_errors() {
 #[test]
 fn json_comparison_helper_sees_differences() {
     let a = json!({"x": [1, 2.0], "y": null});
-    assert_eq!(json_difference(&a, &json!({"x": [1.0, 2], "y": null}), "$"), None);
+    assert_eq!(
+        json_difference(&a, &json!({"x": [1.0, 2], "y": null}), "$"),
+        None
+    );
     assert!(json_difference(&a, &json!({"x": [1, 2.5], "y": null}), "$").is_some());
     assert!(json_difference(&a, &json!({"x": [1, 2]}), "$").is_some());
     assert!(json_difference(&a, &json!({"x": [1, 2], "y": 0}), "$").is_some());

@@ -15,7 +15,10 @@ pub(crate) fn check_version(found: u32) -> Result<(), ProtocolError> {
 }
 
 /// Rejects a NaN or infinite `value`; `field` names it (built only on failure).
-pub(crate) fn check_finite(value: f64, field: impl FnOnce() -> String) -> Result<(), ProtocolError> {
+pub(crate) fn check_finite(
+    value: f64,
+    field: impl FnOnce() -> String,
+) -> Result<(), ProtocolError> {
     if value.is_finite() {
         Ok(())
     } else {

@@ -24,7 +24,11 @@ pub fn check_covariance<R: AsRef<[f64]>>(
     check_positive_definite(matrix, field)
 }
 
-fn check_shape<R: AsRef<[f64]>>(matrix: &[R], dim: usize, field: &str) -> Result<(), ProtocolError> {
+fn check_shape<R: AsRef<[f64]>>(
+    matrix: &[R],
+    dim: usize,
+    field: &str,
+) -> Result<(), ProtocolError> {
     let shape_error = |found: String| ProtocolError::MatrixShape {
         field: field.to_owned(),
         expected: dim,
@@ -67,7 +71,10 @@ fn check_symmetric<R: AsRef<[f64]>>(matrix: &[R], field: &str) -> Result<(), Pro
 }
 
 /// Cholesky–Banachiewicz on the lower triangle: A = L·Lᵀ exists with a positive diagonal iff A is SPD.
-fn check_positive_definite<R: AsRef<[f64]>>(matrix: &[R], field: &str) -> Result<(), ProtocolError> {
+fn check_positive_definite<R: AsRef<[f64]>>(
+    matrix: &[R],
+    field: &str,
+) -> Result<(), ProtocolError> {
     let n = matrix.len();
     let mut lower = vec![0.0_f64; n * n];
     for i in 0..n {

@@ -146,7 +146,9 @@ impl TruthSet {
         check_version(self.version)?;
         check_finite(self.stamp, || "stamp".to_owned())?;
         for (index, object) in self.objects.iter().enumerate() {
-            check_all_finite(&object.position, |i| format!("objects[{index}].position[{i}]"))?;
+            check_all_finite(&object.position, |i| {
+                format!("objects[{index}].position[{i}]")
+            })?;
         }
         Ok(())
     }

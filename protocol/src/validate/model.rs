@@ -4,9 +4,7 @@ use super::checks::{
     check_all_finite, check_all_positive, check_non_negative, check_positive, check_probability,
     check_version,
 };
-use super::{
-    CAMERA_SINGULARITY_TOLERANCE, MIN_MIC_BASELINE_M, QUATERNION_NORM_TOLERANCE,
-};
+use super::{CAMERA_SINGULARITY_TOLERANCE, MIN_MIC_BASELINE_M, QUATERNION_NORM_TOLERANCE};
 use crate::error::ProtocolError;
 use crate::messages::{
     BearingRangeModel, CameraModel, LidarModel, MicPairModel, PositionModel, SensorDescriptor,
@@ -85,7 +83,8 @@ fn validate_mic_pair(m: &MicPairModel) -> Result<(), ProtocolError> {
     check_positive(m.speed_of_sound, "model.speed_of_sound")?;
     check_positive(m.noise_std, "model.noise_std")?;
     let [m1, m2] = m.mics;
-    let baseline = ((m2[0] - m1[0]).powi(2) + (m2[1] - m1[1]).powi(2) + (m2[2] - m1[2]).powi(2)).sqrt();
+    let baseline =
+        ((m2[0] - m1[0]).powi(2) + (m2[1] - m1[1]).powi(2) + (m2[2] - m1[2]).powi(2)).sqrt();
     if baseline < MIN_MIC_BASELINE_M {
         return Err(degenerate(
             "mic_pair",
@@ -98,7 +97,9 @@ fn validate_mic_pair(m: &MicPairModel) -> Result<(), ProtocolError> {
 fn validate_lidar(m: &LidarModel) -> Result<(), ProtocolError> {
     check_all_finite(&m.position, |i| format!("model.position[{i}]"))?;
     check_all_finite(&m.orientation, |i| format!("model.orientation[{i}]"))?;
-    check_all_finite(&m.elevation_limits, |i| format!("model.elevation_limits[{i}]"))?;
+    check_all_finite(&m.elevation_limits, |i| {
+        format!("model.elevation_limits[{i}]")
+    })?;
     check_all_positive(&m.noise_std, "model.noise_std")?;
     check_positive(m.max_range, "model.max_range")?;
     let norm = m.orientation.iter().map(|q| q * q).sum::<f64>().sqrt();

@@ -27,8 +27,7 @@ pub const STATUS: &str = r#"{"version": 1, "site": "default", "uptime_s": 12.5, 
  "latency_ms": {"p50": 0.4, "p99": 1.9}}"#;
 
 /// PROTOCOL.md, TruthSet, verbatim.
-pub const TRUTH_SET: &str =
-    r#"{"version": 1, "stamp": 1763700000.040, "objects": [{"id": 1, "position": [1.0, 0.5, 1.7]}]}"#;
+pub const TRUTH_SET: &str = r#"{"version": 1, "stamp": 1763700000.040, "objects": [{"id": 1, "position": [1.0, 0.5, 1.7]}]}"#;
 
 /// A mic pair 0.2 m apart with an explicit speed of sound.
 pub const MIC_PAIR_DESCRIPTOR: &str = r#"{"version": 1, "site": "lab-2", "sensor": "mics_left",

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod documents;
+pub mod strategies;
 
 use protocol::{decode, encode, WireFormat};
 use serde::de::DeserializeOwned;
