@@ -20,6 +20,7 @@ pub mod motion;
 pub mod predict;
 pub mod reduce;
 pub mod spawn;
+pub mod tracks;
 pub mod ukf;
 pub mod update;
 

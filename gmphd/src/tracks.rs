@@ -1,0 +1,332 @@
+//! Labelled track management with hysteresis: confirm M-of-N, delete after a
+//! sustained low weight.
+//!
+//! With asynchronous sensors each measurement set updates the intensity on its own
+//! (Pham ch. 5.3). When a camera misses an object, or cannot see it, that set
+//! multiplies the object's weight by `1 − p_D`; with `p_D = 0.8` a weight of 1
+//! drops to 0.2, and a plain per-set extraction (weight > 0.5) loses the object
+//! until another sensor sees it again — the track flickers. The manager instead
+//! keeps, per label, the label's total weight over the last `N` processed sets and
+//!
+//! * creates a *tentative* track when the label's weight first exceeds
+//!   `confirm_threshold`, and confirms it once that happened in `M` of the last
+//!   `N` sets (cf. MATLAB `trackerPHD` `ConfirmationThreshold`);
+//! * deletes a track only when its weight has stayed below `delete_threshold` for
+//!   `K` consecutive sets or for `max_coast_s` seconds, whichever comes first
+//!   (cf. `DeletionThreshold`); a tentative track is also dropped once none of
+//!   the last `N` sets exceeded `confirm_threshold`.
+//!
+//! A track's state is the mean and covariance of its label's heaviest component
+//! in the latest set that still contains the label (during a missed detection
+//! that is the predicted state, so the track coasts). All state is serde
+//! serialisable so a server can checkpoint it.
+
+use crate::gaussian::{GaussianMixture, Label};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, VecDeque};
+use thiserror::Error;
+
+/// Why the track manager rejected a configuration or an update.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TrackError {
+    /// A configuration value is out of range.
+    #[error("invalid track manager configuration: {0}")]
+    InvalidConfig(&'static str),
+    /// The time stamp is NaN or infinite.
+    #[error("time stamp {0} is not finite")]
+    NonFiniteTime(f64),
+    /// Sets must be processed in time order.
+    #[error("time stamp {now} s is earlier than the previous set's {previous} s")]
+    TimeWentBackwards {
+        /// The previous set's time.
+        previous: f64,
+        /// The offending time.
+        now: f64,
+    },
+    /// A component weight was NaN, infinite or negative.
+    #[error("component with label {label} has invalid weight {weight}")]
+    InvalidWeight {
+        /// Label of the offending component.
+        label: u64,
+        /// Its weight.
+        weight: f64,
+    },
+}
+
+/// Thresholds of the track manager.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TrackManagerConfig {
+    /// A set "hits" a label when the label's total weight exceeds this. Default
+    /// 0.5, the usual extraction threshold.
+    pub confirm_threshold: f64,
+    /// `N`: the number of recent sets looked at for confirmation. Default 4.
+    pub confirm_window: usize,
+    /// `M`: hits among the last `N` sets that confirm a track. Default 2, so two
+    /// sensors seeing the object, or one seeing it twice, confirm it.
+    pub confirm_hits: usize,
+    /// A label's weight below this counts toward deletion. Default 0.15: above one
+    /// miss at `p_D = 0.8` (weight 0.2), below two consecutive misses (0.04).
+    pub delete_threshold: f64,
+    /// `K`: consecutive sets below `delete_threshold` that delete a track.
+    /// Default 6.
+    pub delete_after_sets: usize,
+    /// Seconds below `delete_threshold` that delete a track even if fewer than `K`
+    /// sets arrived (slow sensors). Default 2.0 s.
+    pub max_coast_s: f64,
+}
+
+impl Default for TrackManagerConfig {
+    fn default() -> Self {
+        Self {
+            confirm_threshold: 0.5,
+            confirm_window: 4,
+            confirm_hits: 2,
+            delete_threshold: 0.15,
+            delete_after_sets: 6,
+            max_coast_s: 2.0,
+        }
+    }
+}
+
+impl TrackManagerConfig {
+    /// Checks that the thresholds are consistent.
+    pub fn validate(&self) -> Result<(), TrackError> {
+        let invalid = |reason| Err(TrackError::InvalidConfig(reason));
+        if !(self.confirm_threshold.is_finite() && self.confirm_threshold > 0.0) {
+            return invalid("confirm_threshold must be finite and > 0");
+        }
+        if !(self.delete_threshold.is_finite() && self.delete_threshold >= 0.0) {
+            return invalid("delete_threshold must be finite and >= 0");
+        }
+        if self.delete_threshold > self.confirm_threshold {
+            return invalid("delete_threshold must not exceed confirm_threshold");
+        }
+        if self.confirm_hits == 0 || self.confirm_hits > self.confirm_window {
+            return invalid("confirm_hits must be in 1..=confirm_window");
+        }
+        if self.delete_after_sets == 0 {
+            return invalid("delete_after_sets must be >= 1");
+        }
+        if self.max_coast_s.is_nan() || self.max_coast_s <= 0.0 {
+            return invalid("max_coast_s must be > 0 (may be infinite)");
+        }
+        Ok(())
+    }
+}
+
+/// A labelled track as reported to users.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Track {
+    /// The label (identity).
+    pub label: Label,
+    /// Mean of the label's heaviest component in the latest set containing it.
+    pub mean: DVector<f64>,
+    /// Covariance of that component.
+    pub cov: DMatrix<f64>,
+    /// The label's total weight in the latest processed set (0 if absent).
+    pub weight: f64,
+    /// Time (s) of the set that created the track.
+    pub first_seen: f64,
+    /// Time (s) of the latest set whose weight exceeded `confirm_threshold`.
+    pub last_update: f64,
+    /// Whether the track has been confirmed (M of N); tentative otherwise.
+    pub confirmed: bool,
+}
+
+/// Book-keeping behind one track.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct TrackState {
+    track: Track,
+    /// Total weight in each of the last `N` processed sets, oldest first.
+    recent_weights: VecDeque<f64>,
+    /// Consecutive sets below `delete_threshold`, and when that run started.
+    below_count: usize,
+    below_since: Option<f64>,
+}
+
+/// What one update changed.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrackEvents {
+    /// Labels whose tentative track was created in this set.
+    pub created: Vec<Label>,
+    /// Labels confirmed in this set.
+    pub confirmed: Vec<Label>,
+    /// Labels whose track was deleted in this set.
+    pub deleted: Vec<Label>,
+}
+
+/// Per-label track manager; see the module documentation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrackManager {
+    config: TrackManagerConfig,
+    tracks: BTreeMap<Label, TrackState>,
+    last_time: Option<f64>,
+}
+
+/// A label's total weight and heaviest component in one intensity.
+struct LabelSummary<'a> {
+    weight: f64,
+    heaviest_weight: f64,
+    mean: &'a DVector<f64>,
+    cov: &'a DMatrix<f64>,
+}
+
+impl TrackManager {
+    /// A manager with no tracks.
+    pub fn new(config: TrackManagerConfig) -> Result<Self, TrackError> {
+        config.validate()?;
+        Ok(Self {
+            config,
+            tracks: BTreeMap::new(),
+            last_time: None,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &TrackManagerConfig {
+        &self.config
+    }
+
+    /// Time (s) of the latest processed set.
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_time
+    }
+
+    /// All tracks, tentative and confirmed, by label.
+    pub fn tracks(&self) -> impl Iterator<Item = &Track> {
+        self.tracks.values().map(|state| &state.track)
+    }
+
+    /// Confirmed tracks, by label.
+    pub fn confirmed_tracks(&self) -> impl Iterator<Item = &Track> {
+        self.tracks().filter(|track| track.confirmed)
+    }
+
+    /// The label's total weight over its last `N` processed sets, oldest first.
+    pub fn recent_weights(&self, label: Label) -> Option<Vec<f64>> {
+        let state = self.tracks.get(&label)?;
+        Some(state.recent_weights.iter().copied().collect())
+    }
+
+    /// Processes the intensity after one measurement set taken at `time_s`.
+    pub fn update(
+        &mut self,
+        time_s: f64,
+        intensity: &GaussianMixture,
+    ) -> Result<TrackEvents, TrackError> {
+        if !time_s.is_finite() {
+            return Err(TrackError::NonFiniteTime(time_s));
+        }
+        if let Some(previous) = self.last_time.filter(|&previous| time_s < previous) {
+            return Err(TrackError::TimeWentBackwards {
+                previous,
+                now: time_s,
+            });
+        }
+        let summaries = summarise(intensity)?;
+        self.last_time = Some(time_s);
+        let config = self.config;
+        let mut events = TrackEvents::default();
+
+        for (&label, summary) in &summaries {
+            if summary.weight > config.confirm_threshold && !self.tracks.contains_key(&label) {
+                self.tracks.insert(label, new_state(label, time_s, summary));
+                events.created.push(label);
+            }
+        }
+        for (&label, state) in &mut self.tracks {
+            let summary = summaries.get(&label);
+            let weight = summary.map_or(0.0, |s| s.weight);
+            if let Some(summary) = summary {
+                state.track.mean.clone_from(summary.mean);
+                state.track.cov.clone_from(summary.cov);
+            }
+            state.track.weight = weight;
+            let is_new = events.created.contains(&label);
+            if !is_new {
+                state.recent_weights.push_back(weight);
+                if state.recent_weights.len() > config.confirm_window {
+                    state.recent_weights.pop_front();
+                }
+            }
+            if weight > config.confirm_threshold {
+                state.track.last_update = time_s;
+            }
+            if weight < config.delete_threshold {
+                state.below_count += 1;
+                state.below_since.get_or_insert(time_s);
+            } else {
+                state.below_count = 0;
+                state.below_since = None;
+            }
+            let hits = state
+                .recent_weights
+                .iter()
+                .filter(|&&w| w > config.confirm_threshold)
+                .count();
+            if !state.track.confirmed && hits >= config.confirm_hits {
+                state.track.confirmed = true;
+                events.confirmed.push(label);
+            }
+            let stale_tentative = !state.track.confirmed
+                && state.recent_weights.len() == config.confirm_window
+                && hits == 0;
+            let sustained_low = state.below_count >= config.delete_after_sets
+                || state
+                    .below_since
+                    .is_some_and(|since| time_s - since >= config.max_coast_s);
+            if stale_tentative || sustained_low {
+                events.deleted.push(label);
+            }
+        }
+        for label in &events.deleted {
+            self.tracks.remove(label);
+        }
+        Ok(events)
+    }
+}
+
+/// A new tentative track from its first hit.
+fn new_state(label: Label, time_s: f64, summary: &LabelSummary<'_>) -> TrackState {
+    TrackState {
+        track: Track {
+            label,
+            mean: summary.mean.clone(),
+            cov: summary.cov.clone(),
+            weight: summary.weight,
+            first_seen: time_s,
+            last_update: time_s,
+            confirmed: false,
+        },
+        recent_weights: VecDeque::from([summary.weight]),
+        below_count: 0,
+        below_since: None,
+    }
+}
+
+/// Total weight and heaviest component per label.
+fn summarise(intensity: &GaussianMixture) -> Result<BTreeMap<Label, LabelSummary<'_>>, TrackError> {
+    let mut summaries: BTreeMap<Label, LabelSummary<'_>> = BTreeMap::new();
+    for component in intensity.iter() {
+        if !component.weight.is_finite() || component.weight < 0.0 {
+            return Err(TrackError::InvalidWeight {
+                label: component.label.0,
+                weight: component.weight,
+            });
+        }
+        let summary = summaries.entry(component.label).or_insert(LabelSummary {
+            weight: 0.0,
+            heaviest_weight: f64::NEG_INFINITY,
+            mean: &component.mean,
+            cov: &component.cov,
+        });
+        summary.weight += component.weight;
+        if component.weight > summary.heaviest_weight {
+            summary.heaviest_weight = component.weight;
+            summary.mean = &component.mean;
+            summary.cov = &component.cov;
+        }
+    }
+    Ok(summaries)
+}
