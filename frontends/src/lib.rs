@@ -1,1 +1,2 @@
-//! placeholder
+//! Sensor front ends: raw data to measurements; pure, no networking.
+pub mod lidar;
