@@ -30,6 +30,15 @@ pub enum ScenarioError {
         /// Why the value is rejected.
         reason: String,
     },
+    /// A sensor's descriptor breaks the wire contract's validation rules (the fusion
+    /// server would reject it).
+    #[error("scenario key `{key}`: {source}")]
+    Descriptor {
+        /// The sensor's path in the file, e.g. `sensors[1]`.
+        key: String,
+        /// The protocol's description of the problem.
+        source: protocol::ProtocolError,
+    },
     /// A sensor's descriptor does not make a usable measurement model.
     #[error("scenario key `{key}`: {source}")]
     SensorModel {

@@ -51,7 +51,14 @@ pub(crate) fn validate(scenario: &Scenario) -> Result<(), ScenarioError> {
         require_non_negative(spec.clutter_rate, &format!("{key}.clutter_rate"))?;
         require_positive(spec.rate_hz, &format!("{key}.rate_hz"))?;
         require_non_negative(spec.phase_s, &format!("{key}.phase_s"))?;
-        sensor_models::measurement_model(&spec.descriptor(&scenario.site)).map_err(|source| {
+        let descriptor = spec.descriptor(&scenario.site);
+        descriptor
+            .validate()
+            .map_err(|source| ScenarioError::Descriptor {
+                key: key.clone(),
+                source,
+            })?;
+        sensor_models::measurement_model(&descriptor).map_err(|source| {
             ScenarioError::SensorModel {
                 key: format!("{key}.model"),
                 source,
