@@ -169,6 +169,11 @@ impl GmPhdFilter {
         self.time
     }
 
+    /// The label the next newborn component will get (labels below it are used).
+    pub fn next_label(&self) -> u64 {
+        self.labels.peek()
+    }
+
     /// The motion model (maps states to world positions and velocities).
     pub fn motion(&self) -> &dyn MotionModel {
         self.motion.as_ref()

@@ -74,9 +74,12 @@ pub fn check_spd(matrix: &DMatrix<f64>, dim: usize, what: &'static str) -> Resul
 /// Round-off in `P - K S Kᵀ` can make a covariance slightly indefinite when a
 /// measurement is far more precise than the prior (a TDOA of 6e-5 s against a
 /// metre-scale position); this repairs it without visibly changing a healthy matrix.
+///
+/// A matrix with non-finite entries is only symmetrized: an eigen-decomposition of
+/// it would not converge, and there is nothing meaningful to repair.
 pub fn nearest_spd(matrix: &DMatrix<f64>) -> DMatrix<f64> {
     let symmetric = symmetrize(matrix);
-    if Cholesky::new(symmetric.clone()).is_some() {
+    if !symmetric.iter().all(|x| x.is_finite()) || Cholesky::new(symmetric.clone()).is_some() {
         return symmetric;
     }
     let eigen = symmetric.symmetric_eigen();
@@ -92,24 +95,34 @@ pub fn nearest_spd(matrix: &DMatrix<f64>) -> DMatrix<f64> {
     symmetrize(&rebuilt)
 }
 
+/// How many times [`robust_cholesky`] grows its diagonal jitter (by 10× each time,
+/// from 1e-12 of the diagonal up to far beyond the matrix's own scale).
+const MAX_JITTER_ROUNDS: usize = 30;
+
 /// Cholesky factor of a covariance, repairing it with [`nearest_spd`] when needed.
+///
+/// Never fails and never loops forever: a matrix that cannot be repaired (only
+/// possible with non-finite entries, which validated inputs never produce) is
+/// replaced by the identity.
 pub fn robust_cholesky(matrix: &DMatrix<f64>) -> Cholesky<f64, Dyn> {
     if let Some(chol) = Cholesky::new(symmetrize(matrix)) {
         return chol;
     }
+    let n = matrix.nrows();
     let mut repaired = nearest_spd(matrix);
     // Clamping leaves a positive spectrum, but rounding in the rebuild can still defeat
     // Cholesky for a wildly scaled matrix; grow a diagonal jitter until it succeeds.
     let mut jitter = repaired.diagonal().amax().max(f64::MIN_POSITIVE) * EIGENVALUE_FLOOR;
-    loop {
+    for _ in 0..MAX_JITTER_ROUNDS {
         if let Some(chol) = Cholesky::new(repaired.clone()) {
             return chol;
         }
-        for i in 0..repaired.nrows() {
+        for i in 0..n {
             repaired[(i, i)] += jitter;
         }
         jitter *= 10.0;
     }
+    Cholesky::new(DMatrix::identity(n, n)).expect("the identity is positive definite")
 }
 
 /// log det of the matrix factored by `chol`.
@@ -160,6 +173,13 @@ mod tests {
         let bad = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
         let fixed = nearest_spd(&bad);
         assert!(Cholesky::new(fixed).is_some());
+    }
+
+    #[test]
+    fn non_finite_matrices_do_not_hang_the_repair() {
+        let bad = DMatrix::from_row_slice(2, 2, &[f64::NAN, 0.0, 0.0, 1.0]);
+        assert!(nearest_spd(&bad)[(0, 0)].is_nan());
+        assert_eq!(robust_cholesky(&bad).l(), DMatrix::identity(2, 2));
     }
 
     #[test]
