@@ -54,6 +54,8 @@
 //! # Ok::<(), simulator::ScenarioError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod bounds;
 mod camera_pose;
 mod error;

@@ -72,7 +72,8 @@ impl SimulatedSensor {
     }
 
     /// Frame `k` of a run of `scenario` with `seed` that started at Unix time `start`:
-    /// `seq = k`, `stamp = start + phase_s + k / rate_hz`, no per-measurement covariances.
+    /// `seq = k`, `stamp = start + (phase_s + k / rate_hz)` (the scenario time is computed
+    /// first, exactly as the truth is evaluated), no per-measurement covariances.
     ///
     /// Each target present at the frame's time is detected with the model's `p_D(x)` (zero
     /// outside the field of view); a detection is `h(x) + L n` with angular components

@@ -52,7 +52,9 @@ impl SensorSpec {
 /// Number of `k ≥ 0` with `offset + k / rate < duration`, computed with the same
 /// arithmetic as the instants themselves so that rounding cannot add or drop one.
 pub(crate) fn count_instants(offset: f64, rate: f64, duration: f64) -> u64 {
-    if !(duration > offset) || !(rate > 0.0) {
+    // Written positively so that NaN inputs also give no instants.
+    let has_instants = duration > offset && rate > 0.0;
+    if !has_instants {
         return 0;
     }
     // A first guess from the closed form, then step until the boundary is exact.

@@ -94,3 +94,18 @@ fn room_people_enter_early_and_stay_in_the_room_and_in_view() {
     println!("room: people in at least one camera {in_view:.3}, in both {in_both:.3}");
     assert!(in_view >= 0.9, "in view only {in_view:.3} of the time");
 }
+
+#[test]
+fn scenarios_md_example_parses() {
+    let doc = include_str!("../SCENARIOS.md");
+    let start = doc
+        .find("```toml\n")
+        .expect("SCENARIOS.md has a toml example")
+        + 8;
+    let end = start + doc[start..].find("```").expect("the example is closed");
+    let scenario = Scenario::from_toml_str(&doc[start..end]).unwrap();
+    assert_eq!(scenario.targets.len(), 3);
+    let kinds: Vec<SensorKind> = scenario.sensors.iter().map(|s| s.model.kind()).collect();
+    assert_eq!(kinds, SensorKind::ALL);
+    Simulation::new(scenario, 1).unwrap();
+}

@@ -65,7 +65,8 @@ fn target(i: u64) -> Target {
         4.0 + 8.0 * (cell / 5) as f64,
         2.0 + 2.0 * (i % 4) as f64,
     ];
-    let motion = if i % 5 == 0 {
+    let crosses = i.is_multiple_of(5);
+    let motion = if crosses {
         // These start on the west edge (x = 4) and cross eastwards at 0.5 m/s, drifting
         // towards the middle row so that they stay inside the volume for the whole run.
         Motion::ConstantVelocity(ConstantVelocity {
