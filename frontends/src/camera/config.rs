@@ -1,0 +1,248 @@
+//! Configuration of the camera front end, with documented defaults.
+//!
+//! Every field has a default, so a configuration file only needs the values it changes, e.g. in TOML:
+//!
+//! ```toml
+//! [background]
+//! model = "kde"            # or "running_stats"
+//! kde = { samples = 20, bandwidth_i = 10.0 }
+//! [blobs]
+//! min_area = 400
+//! anchor = "top_centre"    # or "centroid", "bottom_centre"
+//! [mot_det]
+//! min_score = 0.3
+//! ```
+
+use serde::Deserialize;
+
+use super::detections::PointAnchor;
+use super::error::{CameraError, CameraResult};
+
+/// Everything the camera front end needs to know.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraConfig {
+    /// Background subtraction.
+    pub background: BackgroundConfig,
+    /// Mask clean-up and blob extraction.
+    pub blobs: BlobConfig,
+    /// Reading precomputed MOT Challenge detections instead of subtracting a background.
+    pub mot_det: MotDetConfig,
+}
+
+/// Which per-pixel background model to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BackgroundModelKind {
+    /// Kernel density over the last N background samples (Hoseinnezhad, Vo, Vu, eq. 10). The default:
+    /// it is the model of the paper, it represents backgrounds that take several values (flicker, swaying
+    /// leaves, a monitor) which a single Gaussian cannot, and at N = 16 samples with table look-up kernels
+    /// and early exit it costs a few milliseconds per 320x240 frame.
+    #[default]
+    Kde,
+    /// One running Gaussian (mean and variance) per pixel and rgI component: constant cost and memory
+    /// per pixel whatever the history length, for large frames or slow hardware; unimodal backgrounds only.
+    RunningStats,
+}
+
+/// Background subtraction settings.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BackgroundConfig {
+    /// The model used; default `kde`.
+    pub model: BackgroundModelKind,
+    /// Settings of the kernel-density model.
+    pub kde: KdeConfig,
+    /// Settings of the running-statistics model.
+    pub running_stats: RunningStatsConfig,
+}
+
+/// Kernel-density background model settings.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct KdeConfig {
+    /// N, the number of background samples kept per pixel (1..=255); default 16. The first N frames
+    /// are all learned as background, so the scene should be empty of movers then (or they become
+    /// ghosts until replaced).
+    pub samples: usize,
+    /// K0, the number of frames between two selective updates once learned (>= 1); default 5. With N
+    /// samples, the model remembers about N * K0 frames of background.
+    pub update_interval: u32,
+    /// Gaussian kernel bandwidth for chromaticity r (in r units, 0..1); default 0.03.
+    pub bandwidth_r: f32,
+    /// Gaussian kernel bandwidth for chromaticity g; default 0.03.
+    pub bandwidth_g: f32,
+    /// Gaussian kernel bandwidth for intensity I, in grey levels; default 8.
+    pub bandwidth_i: f32,
+    /// A pixel is foreground when its normalised background likelihood `y` (eq. 10, in [0, 1]) is below
+    /// this; default 0.05.
+    pub threshold: f32,
+}
+
+impl Default for KdeConfig {
+    fn default() -> Self {
+        Self {
+            samples: 16,
+            update_interval: 5,
+            bandwidth_r: 0.03,
+            bandwidth_g: 0.03,
+            bandwidth_i: 8.0,
+            threshold: 0.05,
+        }
+    }
+}
+
+/// Running-statistics background model settings.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RunningStatsConfig {
+    /// Frames averaged (all pixels) before detection starts (>= 1); default 16.
+    pub learning_frames: u32,
+    /// Weight of a new background observation in the running mean and variance (0 < a <= 1);
+    /// default 0.02 (a memory of about 50 frames).
+    pub learning_rate: f32,
+    /// A pixel is foreground when its squared Mahalanobis distance over r, g, I exceeds the square of
+    /// this; default 4.
+    pub threshold_sigmas: f32,
+    /// Floor on the standard deviation of r, so a noise-free learning phase does not make every change
+    /// foreground; default 0.01.
+    pub min_std_r: f32,
+    /// Floor on the standard deviation of g; default 0.01.
+    pub min_std_g: f32,
+    /// Floor on the standard deviation of I, in grey levels; default 3.
+    pub min_std_i: f32,
+}
+
+impl Default for RunningStatsConfig {
+    fn default() -> Self {
+        Self {
+            learning_frames: 16,
+            learning_rate: 0.02,
+            threshold_sigmas: 4.0,
+            min_std_r: 0.01,
+            min_std_g: 0.01,
+            min_std_i: 3.0,
+        }
+    }
+}
+
+/// Mask clean-up and blob extraction settings.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BlobConfig {
+    /// Radius k of the square structuring element ((2k+1) x (2k+1)) of the opening (removes specks)
+    /// and closing (fills holes) applied to the foreground mask; 0 disables both; default 1 (3x3).
+    pub cleanup_radius: u8,
+    /// Blobs with fewer pixels are dropped as noise; default 200 (a person is thousands of pixels at
+    /// 320x240).
+    pub min_area: u32,
+    /// Which point of a blob is its measurement; default top-centre (the head).
+    pub anchor: PointAnchor,
+    /// The x of a top- or bottom-centre point is the mean column of the blob's pixels within this many
+    /// rows of its top (or bottom) edge, which is steadier than the single extreme row; >= 1, default 4.
+    pub anchor_band_rows: u32,
+}
+
+impl Default for BlobConfig {
+    fn default() -> Self {
+        Self {
+            cleanup_radius: 1,
+            min_area: 200,
+            anchor: PointAnchor::TopCentre,
+            anchor_band_rows: 4,
+        }
+    }
+}
+
+/// Settings for reading MOT Challenge `det.txt` files.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MotDetConfig {
+    /// Detections scoring below this are dropped; default 0.5. Detectors differ in score range (the
+    /// DPM detections of MOT16/17 have negative scores), so set it per detector.
+    pub min_score: f64,
+    /// Which point of a box is the measurement; default top-centre.
+    pub anchor: PointAnchor,
+}
+
+impl Default for MotDetConfig {
+    fn default() -> Self {
+        Self {
+            min_score: 0.5,
+            anchor: PointAnchor::TopCentre,
+        }
+    }
+}
+
+fn invalid(field: &'static str, problem: String) -> CameraError {
+    CameraError::InvalidConfig { field, problem }
+}
+
+fn require_positive(field: &'static str, value: f32) -> CameraResult<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            field,
+            format!("must be finite and > 0, got {value}"),
+        ))
+    }
+}
+
+impl CameraConfig {
+    /// Checks every value's range; the pipeline refuses a configuration that fails this.
+    pub fn validate(&self) -> CameraResult<()> {
+        let kde = &self.background.kde;
+        if !(1..=255).contains(&kde.samples) {
+            return Err(invalid(
+                "background.kde.samples",
+                format!("must be in 1..=255, got {}", kde.samples),
+            ));
+        }
+        if kde.update_interval == 0 {
+            return Err(invalid(
+                "background.kde.update_interval",
+                "must be >= 1".into(),
+            ));
+        }
+        require_positive("background.kde.bandwidth_r", kde.bandwidth_r)?;
+        require_positive("background.kde.bandwidth_g", kde.bandwidth_g)?;
+        require_positive("background.kde.bandwidth_i", kde.bandwidth_i)?;
+        if !(kde.threshold > 0.0 && kde.threshold < 1.0) {
+            return Err(invalid(
+                "background.kde.threshold",
+                format!("must be in (0, 1), got {}", kde.threshold),
+            ));
+        }
+        let running = &self.background.running_stats;
+        if running.learning_frames == 0 {
+            return Err(invalid(
+                "background.running_stats.learning_frames",
+                "must be >= 1".into(),
+            ));
+        }
+        if !(running.learning_rate > 0.0 && running.learning_rate <= 1.0) {
+            return Err(invalid(
+                "background.running_stats.learning_rate",
+                format!("must be in (0, 1], got {}", running.learning_rate),
+            ));
+        }
+        require_positive(
+            "background.running_stats.threshold_sigmas",
+            running.threshold_sigmas,
+        )?;
+        require_positive("background.running_stats.min_std_r", running.min_std_r)?;
+        require_positive("background.running_stats.min_std_g", running.min_std_g)?;
+        require_positive("background.running_stats.min_std_i", running.min_std_i)?;
+        if self.blobs.anchor_band_rows == 0 {
+            return Err(invalid("blobs.anchor_band_rows", "must be >= 1".into()));
+        }
+        if self.blobs.min_area == 0 {
+            return Err(invalid("blobs.min_area", "must be >= 1".into()));
+        }
+        if self.mot_det.min_score.is_nan() {
+            return Err(invalid("mot_det.min_score", "must be a number".into()));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,43 @@
+//! Camera front end: image frames to per-frame image-plane point measurements.
+//!
+//! Two sources of measurements:
+//! - Background subtraction (`CameraPipeline`): each frame is converted to rgI chromaticity, compared
+//!   with a per-pixel background model (kernel density over recent background samples as in
+//!   Hoseinnezhad, Vo and Vu, or running mean/variance), the foreground mask is opened and closed,
+//!   its connected components above a minimum area become blobs, and each blob gives one point, by
+//!   default its head point (top-centre), the measurement of Pham's single-view stage (thesis ch. 7).
+//! - Precomputed detections (`read_mot_detections`): a MOT Challenge `det.txt`, one point per box.
+//!
+//! Both yield `Vec<FrameDetections>`, one point set per frame, ready for a 2-D GM-PHD update
+//! (`FrameDetections::measurement_vectors`).
+
+mod background;
+mod blobs;
+mod chromaticity;
+mod config;
+mod detections;
+mod error;
+mod frames;
+mod kde_background;
+mod morphology;
+mod mot_det;
+mod pipeline;
+mod running_background;
+
+pub use background::{new_background_model, BackgroundModel, FOREGROUND};
+pub use blobs::{Blob, BlobDetector};
+pub use chromaticity::{rgb_to_rgi, Rgi, RgiImage, RGI_SCALE};
+pub use config::{
+    BackgroundConfig, BackgroundModelKind, BlobConfig, CameraConfig, KdeConfig, MotDetConfig,
+    RunningStatsConfig,
+};
+pub use detections::{FrameDetections, PointAnchor};
+pub use error::{CameraError, CameraResult};
+pub use frames::{read_stamps_file, Frame, FrameDirectory, FrameRate, FrameTiming};
+pub use kde_background::KdeBackground;
+pub use morphology::clean_mask;
+pub use mot_det::{
+    group_by_frame, parse_mot_line, parse_mot_text, read_mot_detections, MotDetection,
+};
+pub use pipeline::CameraPipeline;
+pub use running_background::RunningStatsBackground;
