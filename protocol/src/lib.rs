@@ -14,7 +14,8 @@
 //!   between our own programs); a receiver decides by that, never by sniffing. A query picks the reply's form
 //!   with `format=json|postcard`. Payloads over [`MAX_PAYLOAD_BYTES`] are refused.
 //! - **Messages** ([`messages`]): field names and JSON shapes are part of the contract. Matrices are arrays of
-//!   rows, absent optional values are written as `null`, a sensor model is an object tagged by `kind`
+//!   rows, absent optional values are written as `null` (an omitted one is read as `null`), a sensor model
+//!   is an object tagged by `kind`
 //!   (`camera`, `mic_pair`, `lidar`, `bearing_range`, `position`). Unknown fields are rejected. World frame:
 //!   right-handed, metres, `z` up; angles in radians; `stamp` is capture time in seconds since the Unix epoch.
 //! - **Replay files**: JSON Lines, each input line one [`ReplayLine`], each output line one [`TrackSet`].

@@ -209,3 +209,11 @@ fn json_comparison_helper_sees_differences() {
     assert!(json_difference(&a, &json!({"x": [1, 2]}), "$").is_some());
     assert!(json_difference(&a, &json!({"x": [1, 2], "y": 0}), "$").is_some());
 }
+
+#[test]
+fn omitted_optional_fields_read_as_null() {
+    let without = MEASUREMENT_SET.replace(",\n \"covariances\": null", "");
+    assert!(!without.contains("covariances"), "{without}");
+    let set: MeasurementSet = decode(without.as_bytes(), WireFormat::Json).unwrap();
+    assert_eq!(set.covariances, None);
+}
