@@ -2,6 +2,9 @@
 //! per-pixel sensor noise, and three coloured elliptical "people" (40 x 100 px) that walk across the
 //! image and cross one another.
 
+// Each test crate that includes this module uses only part of it.
+#![allow(dead_code)]
+
 use image::{Rgb, RgbImage};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
