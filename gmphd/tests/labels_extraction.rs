@@ -1,5 +1,5 @@
 //! State extraction (Vo & Ma; Pham ch. 7.4): threshold, round(w) copies, grouping
-//! by label.
+//! by label with separated heavy members.
 
 use gmphd::extract::{ExtractError, Grouping, StateExtractor, WeightThresholdExtractor};
 use gmphd::{Gaussian, GaussianMixture, Label};
@@ -67,10 +67,10 @@ fn by_label_reports_the_heaviest_component_of_each_label() {
     assert!(per_component().extract(&mixture).unwrap().is_empty());
 }
 
-/// A birth label that caught two objects: mass ≈ 2 gives two estimates at the two
-/// heaviest components, the second flagged as an extra copy.
+/// A birth label that caught two objects far apart: both heavy members are
+/// reported, the second flagged as an extra estimate.
 #[test]
-fn by_label_places_several_objects_at_distinct_components() {
+fn by_label_reports_well_separated_heavy_members_separately() {
     let mixture = GaussianMixture::from_components(vec![
         component(0.9, 0.0, 7),
         component(0.95, 20.0, 7),
@@ -83,13 +83,39 @@ fn by_label_places_several_objects_at_distinct_components() {
     assert_eq!((estimates[0].copy_index, estimates[0].mean[0]), (0, 20.0));
     assert_eq!((estimates[1].copy_index, estimates[1].mean[0]), (1, 0.0));
     assert!(estimates[1].is_extra_copy());
+    // The owner carries the label's mass not claimed by the extra estimate.
+    assert!((estimates[0].weight - 1.05).abs() < 1e-12);
+    assert!((estimates[1].weight - 0.9).abs() < 1e-12);
+}
+
+/// A clutter return next to an object gives its label a second heavy component
+/// close by (squared Mahalanobis 4.5 < 25): one object, one estimate. A merged
+/// component of weight 2 is likewise reported once per label.
+#[test]
+fn by_label_does_not_report_nearby_heavy_members_or_round_w_copies() {
+    let duplicate =
+        GaussianMixture::from_components(vec![component(1.0, 0.0, 3), component(0.98, 3.0, 3)]);
+    let estimates = WeightThresholdExtractor::default()
+        .extract(&duplicate)
+        .unwrap();
+    assert_eq!(estimates.len(), 1);
+    assert_eq!(estimates[0].mean[0], 0.0);
+    let merged = GaussianMixture::from_components(vec![component(2.0, 0.0, 4)]);
+    assert_eq!(
+        WeightThresholdExtractor::default()
+            .extract(&merged)
+            .unwrap()
+            .len(),
+        1
+    );
+    assert_eq!(per_component().extract(&merged).unwrap().len(), 2);
 }
 
 #[test]
 fn copies_are_capped_and_bad_weights_rejected() {
     let capped = WeightThresholdExtractor {
         max_copies: 3,
-        ..WeightThresholdExtractor::default()
+        ..per_component()
     };
     let heavy = GaussianMixture::from_components(vec![component(1e6, 0.0, 1)]);
     assert_eq!(capped.extract(&heavy).unwrap().len(), 3);

@@ -81,14 +81,16 @@ fn relabelling_swaps_groups_on_the_mixture() {
     assert_eq!(source.peek(), 50);
 }
 
-/// A weight-2 component yields two estimates; the extra copy gets a fresh label,
+/// A weight-2 component yields two Vo & Ma estimates; the extra copy gets a fresh label,
 /// and the component is split so that each identity owns half of it.
 #[test]
 fn a_component_with_two_objects_is_split_between_their_labels() {
     let mut mixture = GaussianMixture::from_components(vec![component(1.9, 5.0, 5.0, 4)]);
-    let estimates = WeightThresholdExtractor::default()
-        .extract(&mixture)
-        .unwrap();
+    let vo_ma = WeightThresholdExtractor {
+        grouping: Grouping::PerComponent,
+        ..WeightThresholdExtractor::default()
+    };
+    let estimates = vo_ma.extract(&mixture).unwrap();
     assert_eq!(estimates.len(), 2);
     assert!(estimates[1].is_extra_copy());
     let previous = vec![PreviousEstimate {
