@@ -22,15 +22,15 @@ pub fn read_kitti_bin(path: impl AsRef<Path>) -> Result<PointCloud, CloudFileErr
 /// # Errors
 /// [`CloudFileProblem::KittiLength`] when the length is not a multiple of 16 bytes.
 pub fn decode_kitti_bin(bytes: &[u8]) -> Result<PointCloud, CloudFileProblem> {
-    if bytes.len() % RECORD_BYTES != 0 {
+    let records = bytes.chunks_exact(RECORD_BYTES);
+    if !records.remainder().is_empty() {
         return Err(CloudFileProblem::KittiLength {
             length: bytes.len(),
         });
     }
-    let count = bytes.len() / RECORD_BYTES;
-    let mut points = Vec::with_capacity(count);
-    let mut intensity = Vec::with_capacity(count);
-    for record in bytes.chunks_exact(RECORD_BYTES) {
+    let mut points = Vec::with_capacity(records.len());
+    let mut intensity = Vec::with_capacity(records.len());
+    for record in records {
         let value = |k: usize| {
             let mut word = [0u8; 4];
             word.copy_from_slice(&record[4 * k..4 * k + 4]);
