@@ -1,7 +1,8 @@
 //! Background models: learning, classification, selective update, and the configuration.
 
 use frontends::camera::{
-    new_background_model, BackgroundConfig, BackgroundModelKind, CameraConfig, RgiImage, FOREGROUND,
+    new_background_model, rgb_to_rgi, BackgroundConfig, BackgroundModel, BackgroundModelKind,
+    CameraConfig, KdeBackground, KdeConfig, RgiImage, FOREGROUND,
 };
 use image::{GrayImage, Rgb, RgbImage};
 
@@ -159,4 +160,21 @@ fn out_of_range_values_are_refused() {
     let mut config = CameraConfig::default();
     config.background.running_stats.learning_rate = 1.5;
     assert!(frontends::camera::CameraPipeline::new(config).is_err());
+}
+
+#[test]
+fn kde_likelihood_is_the_normalised_density_of_eq_10() {
+    let mut model = KdeBackground::new(&KdeConfig::default(), 4);
+    let grey = rgb_to_rgi([100, 100, 100]);
+    assert_eq!(model.likelihood(0, grey), None, "nothing learned yet");
+    let frame = RgiImage::from_rgb(&RgbImage::from_pixel(2, 2, Rgb([100, 100, 100])));
+    model.update(&frame, &GrayImage::new(2, 2));
+    assert_eq!(model.likelihood(3, grey), Some(1.0));
+    // 8 grey levels brighter is one intensity bandwidth away: exp(-1/2).
+    let brighter = rgb_to_rgi([108, 108, 108]);
+    let y = model.likelihood(3, brighter).expect("pixel 3 exists");
+    assert!((y - (-0.5f32).exp()).abs() < 1e-6, "y = {y}");
+    let red = rgb_to_rgi([200, 40, 40]);
+    assert!(model.likelihood(0, red).expect("pixel 0 exists") < 1e-6);
+    assert_eq!(model.likelihood(4, grey), None, "only 4 pixels");
 }

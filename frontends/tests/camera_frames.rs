@@ -123,6 +123,11 @@ fn directory_problems_are_reported() {
         message.contains("cannot decode frame") && message.contains("frame_0001.PNG"),
         "{message}"
     );
+    let message = listing.load(2).expect_err("past the end").to_string();
+    assert!(
+        message.contains("frame index 2 is out of range: the directory holds 2 frames"),
+        "{message}"
+    );
 }
 
 #[test]

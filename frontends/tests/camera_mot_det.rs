@@ -88,6 +88,10 @@ fn malformed_lines_name_the_file_line_and_problem() {
         ("1,-1,10,10,-5,5,0.9", "box size -5 x 5 is not positive"),
         ("1,-1,10,10,5,5,NaN", "score \"NaN\" is not finite"),
         ("1,-1,10,10,5,5,0.9,a,-1,-1", "x \"a\" is not a number"),
+        (
+            "5000000,-1,10,10,5,5,0.9",
+            "beyond the supported 1000000 frames",
+        ),
     ];
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("det.txt");

@@ -62,8 +62,9 @@ pub struct BackgroundConfig {
 #[serde(default, deny_unknown_fields)]
 pub struct KdeConfig {
     /// N, the number of background samples kept per pixel (1..=255); default 16. The first N frames
-    /// are all learned as background, so the scene should be empty of movers then (or they become
-    /// ghosts until replaced).
+    /// are all learned as background, so the scene should be empty of movers then (a mover present
+    /// then leaves a "ghost" where it stood, foreground until those samples are replaced, which the
+    /// selective update never does while the ghost is foreground). Memory: 3 N bytes per pixel.
     pub samples: usize,
     /// K0, the number of frames between two selective updates once learned (>= 1); default 5. With N
     /// samples, the model remembers about N * K0 frames of background.

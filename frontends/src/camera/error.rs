@@ -27,6 +27,14 @@ pub enum CameraError {
         /// The decoder's error.
         source: image::ImageError,
     },
+    /// A frame index past the end of a frame directory was asked for.
+    #[error("frame index {index} is out of range: the directory holds {frames} frames")]
+    FrameIndex {
+        /// The index asked for.
+        index: usize,
+        /// Number of frames.
+        frames: usize,
+    },
     /// A frame's size differs from the first frame's.
     #[error("frame {frame} is {found_width}x{found_height} px but the sequence started with {expected_width}x{expected_height} px")]
     FrameSizeMismatch {

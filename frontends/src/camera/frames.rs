@@ -119,9 +119,12 @@ impl FrameDirectory {
         &self.stamps
     }
 
-    /// Decodes the frame at `index` (which must be below `len()`).
+    /// Decodes the frame at `index`.
     pub fn load(&self, index: usize) -> CameraResult<Frame> {
-        let path = &self.paths[index];
+        let path = self.paths.get(index).ok_or(CameraError::FrameIndex {
+            index,
+            frames: self.paths.len(),
+        })?;
         let image = image::open(path)
             .map_err(|source| CameraError::FrameDecode {
                 path: path.clone(),

@@ -82,11 +82,16 @@ impl KdeBackground {
         false
     }
 
-    /// The normalised background likelihood `y` of eq. 10 of pixel `index` having value `x`.
-    pub fn likelihood(&self, index: usize, x: Rgi) -> f32 {
+    /// The normalised background likelihood `y` of eq. 10 for pixel `index` (row-major) taking the
+    /// value `x`, over the samples learned so far: 1 when `x` equals every sample, near 0 when it is
+    /// far from all. `None` if `index` is not a pixel of the model or nothing is learned yet.
+    pub fn likelihood(&self, index: usize, x: Rgi) -> Option<f32> {
+        if index >= self.pixel_count || self.learned == 0 {
+            return None;
+        }
         let samples = &self.samples[index * self.capacity..][..self.learned];
         let sum: f32 = samples.iter().map(|&s| self.kernel_product(x, s)).sum();
-        sum / self.learned.max(1) as f32
+        Some(sum / self.learned as f32)
     }
 }
 

@@ -11,6 +11,8 @@
 //! Both yield `Vec<FrameDetections>`, one point set per frame, ready for a 2-D GM-PHD update
 //! (`FrameDetections::measurement_vectors`).
 
+#![warn(missing_docs)]
+
 mod background;
 mod blobs;
 mod chromaticity;
@@ -37,7 +39,7 @@ pub use frames::{read_stamps_file, Frame, FrameDirectory, FrameRate, FrameTiming
 pub use kde_background::KdeBackground;
 pub use morphology::clean_mask;
 pub use mot_det::{
-    group_by_frame, parse_mot_line, parse_mot_text, read_mot_detections, MotDetection,
+    group_by_frame, parse_mot_line, parse_mot_text, read_mot_detections, MotDetection, MAX_FRAME,
 };
 pub use pipeline::CameraPipeline;
 pub use running_background::RunningStatsBackground;

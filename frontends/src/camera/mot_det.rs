@@ -5,7 +5,8 @@
 //! missing or empty (trailing columns). Frames are numbered from 1; `id` is -1 in detection files and
 //! is ignored, as are `x, y, z` (checked to be numbers when present). A box without a score is kept
 //! whatever the threshold. Coordinates are taken as they are in the file (no 1-based shift), in
-//! pixels with y down, so the top-centre of a box is `(left + width / 2, top)`.
+//! pixels with y down, so the top-centre of a box is `(left + width / 2, top)`. Frame numbers above
+//! `MAX_FRAME` are refused.
 
 use std::fs;
 use std::path::Path;
@@ -44,6 +45,9 @@ impl MotDetection {
     }
 }
 
+/// Largest frame number accepted (over 11 hours at 25 fps). Every frame up to the last one gets an
+/// entry in the output, so a corrupt huge frame number must not allocate without bound.
+pub const MAX_FRAME: usize = 1_000_000;
 const REQUIRED_FIELDS: usize = 6;
 const MAX_FIELDS: usize = 10;
 const FIELD_NAMES: [&str; MAX_FIELDS] = [
@@ -80,8 +84,14 @@ pub fn parse_mot_line(line: &str) -> Result<MotDetection, String> {
         ));
     }
     let frame = parse_number(&fields, 0)?;
-    if frame < 1.0 || frame.fract() != 0.0 || frame > u32::MAX as f64 {
+    if frame < 1.0 || frame.fract() != 0.0 {
         return Err(format!("frame {:?} is not a whole number >= 1", fields[0]));
+    }
+    if frame > MAX_FRAME as f64 {
+        return Err(format!(
+            "frame {:?} is beyond the supported {MAX_FRAME} frames",
+            fields[0]
+        ));
     }
     parse_number(&fields, 1)?;
     let [left, top, width, height] = [2, 3, 4, 5].map(|i| parse_number(&fields, i));
