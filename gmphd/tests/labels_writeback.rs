@@ -153,7 +153,12 @@ fn writeback_rejects_mismatched_input() {
     };
     let mut source = LabelSource::default();
     assert_eq!(
-        apply_relabelling(&mut mixture, &[estimate.clone()], &relabelling, &mut source),
+        apply_relabelling(
+            &mut mixture,
+            std::slice::from_ref(&estimate),
+            &relabelling,
+            &mut source
+        ),
         Err(LabelError::SourceOutOfRange { index: 3, len: 1 })
     );
     assert_eq!(
