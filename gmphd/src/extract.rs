@@ -24,7 +24,7 @@
 //!   own, to which the object's identity moves whenever the clutter happened to be
 //!   the heavier. In the crossing-objects experiment of Pham ch. 4.4
 //!   (`tests/labels_pham_example2.rs`) that raised the mean number of labels per
-//!   true track from ≈ 1.1 to ≈ 1.5. The price: two objects merged into one
+//!   true track from ≈ 1.05 to ≈ 1.5. The price: two objects merged into one
 //!   component (weight ≈ 2) are reported once until they separate.
 //! * [`Grouping::PerComponent`]: Vo & Ma verbatim, component by component, with
 //!   `round(w)` copies; labels may repeat.

@@ -14,9 +14,9 @@
 //! birth component's label), or a fresh label when all are taken. Labels in the
 //! result are therefore unique.
 //!
-//! Everything here is a pure function over plain data. [`writeback`] turns the
-//! result into labels on the mixture's components and derives inherited label sets
-//! from a mixture before reduction.
+//! Everything here is a pure function over plain data. [`apply_relabelling`] turns
+//! the result into labels on the mixture's components, and [`inherited_label_sets`]
+//! derives the inherited label sets from the mixture before reduction.
 
 mod writeback;
 

@@ -13,7 +13,8 @@ use std::collections::{BTreeMap, BTreeSet};
 /// This recovers them with the merge criterion itself (Vo & Ma, Table II): a
 /// pre-reduction component `c` counts as an ancestor of estimate `x̂` when
 /// `(m_c − x̂)ᵀ P_c⁻¹ (m_c − x̂) ≤ merge_threshold`, and contributes its weight to
-/// its label. The estimate's own label is always in its set. Using the estimate's
+/// its label. The estimate's own label is always in its set (with weight 0 unless
+/// a contributing component carries it). Using the estimate's
 /// mean in place of the (unknown) heaviest member's mean makes this approximate at
 /// the cluster's edge; a reducer that records merges can build exact sets with
 /// [`LabelSet::from_iter`] instead.
@@ -40,7 +41,10 @@ pub fn inherited_label_sets(
     Ok(estimates
         .iter()
         .map(|estimate| {
-            let mut set = LabelSet::single(estimate.label, estimate.weight);
+            // Weights come from the contributing components only, so that the
+            // fallback label (the heaviest in the set) is Pham's "largest weight
+            // Gaussian contributing to this component".
+            let mut set = LabelSet::single(estimate.label, 0.0);
             for (component, factor) in pre_reduction.iter().zip(&factors) {
                 let diff = &component.mean - &estimate.mean;
                 let mahalanobis_sq = diff.dot(&factor.solve(&diff));
