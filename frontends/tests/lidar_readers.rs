@@ -2,7 +2,8 @@
 //! files with extra fields, and clear errors for malformed files.
 
 use frontends::lidar::{
-    decode_pcd, read_kitti_bin, read_pcd, write_kitti_bin, write_pcd, PcdEncoding, PointCloud,
+    decode_pcd, read_kitti_bin, read_pcd, read_point_cloud, write_kitti_bin, write_pcd,
+    PcdEncoding, PointCloud,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -100,6 +101,24 @@ fn kitti_bin_round_trips_exactly() {
         16 * cloud.len() as u64
     );
     assert_eq!(bits(&read_kitti_bin(&path).unwrap()), bits(&cloud));
+}
+
+#[test]
+fn read_point_cloud_picks_the_format_by_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let cloud = sample_cloud(true);
+    let kitti = dir.path().join("scan.BIN");
+    write_kitti_bin(&kitti, &cloud).unwrap();
+    let pcd = dir.path().join("scan.pcd");
+    write_pcd(&pcd, &cloud, PcdEncoding::Binary).unwrap();
+    assert_eq!(bits(&read_point_cloud(&kitti).unwrap()), bits(&cloud));
+    assert_eq!(bits(&read_point_cloud(&pcd).unwrap()), bits(&cloud));
+    let ply = temp_file(&dir, "scan.ply", b"ply\n");
+    assert_read_error(
+        read_point_cloud(&ply),
+        &ply,
+        "unknown point-cloud extension 'ply'",
+    );
 }
 
 #[test]

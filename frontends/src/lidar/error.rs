@@ -33,6 +33,13 @@ pub enum CloudFileProblem {
     #[error("{0}")]
     Io(#[from] std::io::Error),
 
+    /// The file's extension names no supported format.
+    #[error("unknown point-cloud extension '{extension}' (expected .pcd or .bin)")]
+    UnknownExtension {
+        /// The extension found (lower case, empty if none).
+        extension: String,
+    },
+
     /// A KITTI velodyne file is not a whole number of 16-byte records.
     #[error("length {length} bytes is not a multiple of 16 (one x, y, z, intensity record of 4 float32)")]
     KittiLength {

@@ -19,6 +19,7 @@
 //! assert!((range - 8.03).abs() < 0.01 && azimuth > 0.0 && elevation > 0.0);
 //! ```
 
+mod cloud_file;
 mod clustering;
 mod config;
 mod error;
@@ -31,6 +32,7 @@ mod pipeline;
 mod point_cloud;
 mod ransac_plane;
 
+pub use cloud_file::read_point_cloud;
 pub use clustering::{euclidean_clusters, ClusteringConfig, PointCluster};
 pub use config::LidarConfig;
 pub use error::{CloudFileError, CloudFileProblem, LidarConfigError};
