@@ -70,13 +70,15 @@ impl ZenohConfig {
             ));
         }
         if self.mode == "client" && self.connect.is_empty() && self.config_file.is_none() {
-            return Err(("connect".into(), "client mode needs a router endpoint".into()));
+            return Err((
+                "connect".into(),
+                "client mode needs a router endpoint".into(),
+            ));
         }
         for (key, list) in [("connect", &self.connect), ("listen", &self.listen)] {
-            if let Some(bad) = list
-                .iter()
-                .find(|e| !e.contains('/') || !e.rsplit('/').next().is_some_and(|a| a.contains(':')))
-            {
+            if let Some(bad) = list.iter().find(|e| {
+                !e.contains('/') || !e.rsplit('/').next().is_some_and(|a| a.contains(':'))
+            }) {
                 return Err((
                     key.into(),
                     format!("{bad:?} is not an endpoint like tcp/127.0.0.1:7447"),

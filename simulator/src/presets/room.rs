@@ -51,7 +51,7 @@ pub fn default_room() -> Scenario {
 /// The site `room`.
 fn room_site() -> Site {
     // A literal of `[a-z]` characters is a valid chunk; the presets' tests build it.
-    Site::new("room").expect("`room` is a valid site chunk")
+    Site::new("default").expect("`default` is a valid site chunk")
 }
 
 /// Three people whose heads stay inside the floor area.

@@ -1,0 +1,487 @@
+//! The live service: Zenoh wiring around the [`Engine`].
+//!
+//! Zenoh callbacks only decode the key and the encoding and hand the payload to a bounded
+//! channel (overflow is counted); the engine runs on its own thread, so slow clients never stall
+//! ingest; queryables answer from a snapshot the engine refreshes; a publisher task puts the
+//! latest `TrackSet` at most `output.max_publish_hz` times per second.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use protocol::{keys, SensorId, SensorKeyKind, Status, TrackSet, WireFormat};
+use tokio::sync::{mpsc, watch};
+use zenoh::bytes::Encoding;
+use zenoh::qos::CongestionControl;
+use zenoh::sample::{Sample, SampleKind};
+use zenoh::Wait;
+
+use crate::checkpoint::{self, Checkpoint};
+use crate::clock;
+use crate::config::ServerConfig;
+use crate::engine::{Engine, Rejection};
+use crate::limiter::LogLimiter;
+
+/// What Zenoh callbacks hand to the engine thread.
+enum Inbound {
+    Set {
+        key_sensor: SensorId,
+        payload: Vec<u8>,
+        format: Result<WireFormat, String>,
+        arrived: f64,
+    },
+    Descriptor {
+        payload: Vec<u8>,
+        format: Result<WireFormat, String>,
+    },
+    Alive {
+        sensor: SensorId,
+        alive: bool,
+    },
+    Shutdown,
+}
+
+/// What queryables answer from.
+#[derive(Clone)]
+struct Snapshot {
+    tracks: TrackSet,
+    status: Status,
+}
+
+/// Runs the service until SIGINT or SIGTERM.
+pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
+    let started = clock::now();
+    let mut engine = Engine::new(config.clone(), started, true)?;
+    restore_checkpoint(&config, &mut engine, started);
+    let site = engine.site().clone();
+
+    let session = config.zenoh.open().await?;
+    tracing::info!(site = %site, zid = %session.zid(), mode = %config.zenoh.mode, "zenoh session open");
+
+    let (tx, rx) = sync_channel::<Inbound>(config.ingest.queue_capacity);
+    let overflow = Arc::new(AtomicU64::new(0));
+    let snapshot = Arc::new(Mutex::new(Snapshot {
+        tracks: engine.tracks().clone(),
+        status: engine.status(started),
+    }));
+    let (tracks_tx, tracks_rx) = watch::channel::<Option<(TrackSet, f64)>>(None);
+    let (ask_tx, mut ask_rx) = mpsc::unbounded_channel::<SensorId>();
+
+    // Measurement sets.
+    let sets_sub = {
+        let tx = tx.clone();
+        let overflow = overflow.clone();
+        session
+            .declare_subscriber(keys::all_measurements_key(&site))
+            .callback(move |sample: Sample| {
+                let Ok((_, sensor, _)) = keys::parse_sensor_key(sample.key_expr().as_str()) else {
+                    return;
+                };
+                let msg = Inbound::Set {
+                    key_sensor: sensor,
+                    payload: sample.payload().to_bytes().into_owned(),
+                    format: wire_format(sample.encoding()),
+                    arrived: clock::now(),
+                };
+                offer(&tx, &overflow, msg);
+            })
+            .await
+            .map_err(|e| anyhow::anyhow!("subscribing to measurements: {e}"))?
+    };
+    // Descriptors.
+    let descriptors_sub = {
+        let tx = tx.clone();
+        let overflow = overflow.clone();
+        session
+            .declare_subscriber(keys::all_descriptors_key(&site))
+            .callback(move |sample: Sample| {
+                let msg = Inbound::Descriptor {
+                    payload: sample.payload().to_bytes().into_owned(),
+                    format: wire_format(sample.encoding()),
+                };
+                offer(&tx, &overflow, msg);
+            })
+            .await
+            .map_err(|e| anyhow::anyhow!("subscribing to descriptors: {e}"))?
+    };
+    // Liveliness of the agents (history: tokens that already exist are reported too).
+    let alive_sub = {
+        let tx = tx.clone();
+        let overflow = overflow.clone();
+        session
+            .liveliness()
+            .declare_subscriber(keys::all_alive_key(&site))
+            .history(true)
+            .callback(move |sample: Sample| {
+                if let Ok((_, sensor, SensorKeyKind::Alive)) =
+                    keys::parse_sensor_key(sample.key_expr().as_str())
+                {
+                    let alive = sample.kind() == SampleKind::Put;
+                    offer(&tx, &overflow, Inbound::Alive { sensor, alive });
+                }
+            })
+            .await
+            .map_err(|e| anyhow::anyhow!("subscribing to liveliness: {e}"))?
+    };
+    // Queryables for tracks and status.
+    let tracks_queryable =
+        declare_snapshot_queryable(&session, keys::tracks_key(&site), snapshot.clone(), |s| {
+            Reply::Tracks(s.tracks.clone())
+        })
+        .await?;
+    let status_queryable =
+        declare_snapshot_queryable(&session, keys::status_key(&site), snapshot.clone(), |s| {
+            Reply::Status(s.status.clone())
+        })
+        .await?;
+
+    // Ask for every descriptor already out there, and for those of sensors that speak unannounced.
+    {
+        let session = session.clone();
+        let tx = tx.clone();
+        let overflow = overflow.clone();
+        let all = keys::all_descriptors_key(&site);
+        let site = site.clone();
+        tokio::spawn(async move {
+            fetch_descriptors(&session, &all, &tx, &overflow).await;
+            while let Some(sensor) = ask_rx.recv().await {
+                fetch_descriptors(
+                    &session,
+                    &keys::descriptor_key(&site, &sensor),
+                    &tx,
+                    &overflow,
+                )
+                .await;
+            }
+        });
+    }
+
+    // The publisher: the latest TrackSet, rate-limited.
+    let publisher_task = {
+        let publisher = session
+            .declare_publisher(keys::tracks_key(&site))
+            .encoding(Encoding::from(WireFormat::Postcard.encoding_str()))
+            .congestion_control(CongestionControl::Block)
+            .await
+            .map_err(|e| anyhow::anyhow!("declaring the tracks publisher: {e}"))?;
+        let period = Duration::from_secs_f64(1.0 / config.output.max_publish_hz);
+        let mut tracks_rx = tracks_rx;
+        tokio::spawn(async move {
+            while tracks_rx.changed().await.is_ok() {
+                let latest = tracks_rx.borrow_and_update().clone();
+                if let Some((tracks, _)) = latest {
+                    match protocol::encode(&tracks, WireFormat::Postcard) {
+                        Ok(bytes) => {
+                            if let Err(e) = publisher.put(bytes).await {
+                                tracing::warn!(error = %e, "publishing tracks failed");
+                            }
+                        }
+                        Err(e) => tracing::error!(error = %e, "encoding tracks failed"),
+                    }
+                }
+                tokio::time::sleep(period).await;
+            }
+        })
+    };
+
+    // The engine thread.
+    let engine_thread = {
+        let config = config.clone();
+        let snapshot = snapshot.clone();
+        let overflow = overflow.clone();
+        std::thread::Builder::new()
+            .name("fusion-engine".into())
+            .spawn(move || engine_loop(engine, config, rx, snapshot, overflow, tracks_tx, ask_tx))?
+    };
+
+    wait_for_signal().await;
+    tracing::info!("shutting down: draining what was received");
+    // The callbacks go first so nothing new arrives; then the engine drains and checkpoints.
+    drop(sets_sub);
+    drop(descriptors_sub);
+    drop(alive_sub);
+    let _ = tx.send(Inbound::Shutdown);
+    drop(tx);
+    let engine_result = tokio::task::spawn_blocking(move || engine_thread.join())
+        .await
+        .map_err(|e| anyhow::anyhow!("engine thread: {e}"))?;
+    if engine_result.is_err() {
+        anyhow::bail!("the engine thread panicked");
+    }
+    // Let the publisher put the final track set before closing.
+    tokio::time::sleep(Duration::from_millis(50)).await;
+    publisher_task.abort();
+    drop(tracks_queryable);
+    drop(status_queryable);
+    session
+        .close()
+        .await
+        .map_err(|e| anyhow::anyhow!("closing the zenoh session: {e}"))?;
+    tracing::info!("stopped");
+    Ok(())
+}
+
+fn wire_format(encoding: &Encoding) -> Result<WireFormat, String> {
+    WireFormat::from_zenoh(encoding).map_err(|e| e.to_string())
+}
+
+/// Hands a message to the engine without ever blocking a Zenoh thread.
+fn offer(tx: &SyncSender<Inbound>, overflow: &AtomicU64, msg: Inbound) {
+    match tx.try_send(msg) {
+        Ok(()) | Err(TrySendError::Disconnected(_)) => {}
+        Err(TrySendError::Full(_)) => {
+            overflow.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+}
+
+enum Reply {
+    Tracks(TrackSet),
+    Status(Status),
+}
+
+async fn declare_snapshot_queryable(
+    session: &zenoh::Session,
+    key: String,
+    snapshot: Arc<Mutex<Snapshot>>,
+    pick: fn(&Snapshot) -> Reply,
+) -> anyhow::Result<zenoh::query::Queryable<()>> {
+    let reply_key = key.clone();
+    session
+        .declare_queryable(key.clone())
+        .callback(move |query| {
+            let format = match WireFormat::from_query_parameters(query.parameters().as_str()) {
+                Ok(format) => format,
+                Err(e) => {
+                    let _ = query.reply_err(e.to_string()).wait();
+                    return;
+                }
+            };
+            let reply = {
+                let guard = snapshot.lock().unwrap_or_else(|p| p.into_inner());
+                pick(&guard)
+            };
+            let bytes = match &reply {
+                Reply::Tracks(t) => protocol::encode(t, format),
+                Reply::Status(s) => protocol::encode(s, format),
+            };
+            match bytes {
+                Ok(bytes) => {
+                    if let Err(e) = query
+                        .reply(reply_key.clone(), bytes)
+                        .encoding(Encoding::from(format.encoding_str()))
+                        .wait()
+                    {
+                        tracing::debug!(error = %e, "reply failed");
+                    }
+                }
+                Err(e) => tracing::error!(error = %e, "encoding a reply failed"),
+            }
+        })
+        .await
+        .map_err(|e| anyhow::anyhow!("declaring the queryable on {key}: {e}"))
+}
+
+async fn fetch_descriptors(
+    session: &zenoh::Session,
+    selector: &str,
+    tx: &SyncSender<Inbound>,
+    overflow: &AtomicU64,
+) {
+    let replies = match session.get(selector).timeout(Duration::from_secs(2)).await {
+        Ok(replies) => replies,
+        Err(e) => {
+            tracing::warn!(selector, error = %e, "asking for descriptors failed");
+            return;
+        }
+    };
+    while let Ok(reply) = replies.recv_async().await {
+        if let Ok(sample) = reply.result() {
+            let msg = Inbound::Descriptor {
+                payload: sample.payload().to_bytes().into_owned(),
+                format: wire_format(sample.encoding()),
+            };
+            offer(tx, overflow, msg);
+        }
+    }
+}
+
+async fn wait_for_signal() {
+    let ctrl_c = tokio::signal::ctrl_c();
+    #[cfg(unix)]
+    {
+        let mut term =
+            match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+                Ok(term) => term,
+                Err(e) => {
+                    tracing::warn!(error = %e, "cannot listen for SIGTERM");
+                    let _ = ctrl_c.await;
+                    return;
+                }
+            };
+        tokio::select! {
+            _ = ctrl_c => {}
+            _ = term.recv() => {}
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = ctrl_c.await;
+}
+
+fn restore_checkpoint(config: &ServerConfig, engine: &mut Engine, now: f64) {
+    let Some(path) = &config.checkpoint.path else {
+        return;
+    };
+    match checkpoint::load(path, &config.site.name, now, config.checkpoint.max_age_s) {
+        Ok(checkpoint) => match engine.restore(checkpoint.state) {
+            Ok(()) => {
+                tracing::info!(path = %path.display(), "filter state restored from checkpoint")
+            }
+            Err(e) => {
+                tracing::warn!(path = %path.display(), error = %e, "checkpoint rejected, starting empty")
+            }
+        },
+        Err(checkpoint::LoadError::Missing(_)) => {
+            tracing::info!(path = %path.display(), "no checkpoint yet, starting empty")
+        }
+        Err(e) => tracing::warn!(error = %e, "starting empty"),
+    }
+}
+
+fn save_checkpoint(config: &ServerConfig, engine: &Engine) {
+    let Some(path) = &config.checkpoint.path else {
+        return;
+    };
+    let checkpoint = Checkpoint {
+        saved_at: clock::now(),
+        site: config.site.name.clone(),
+        state: engine.checkpoint(),
+    };
+    if let Err(e) = checkpoint::save(path, &checkpoint) {
+        tracing::error!(path = %path.display(), error = %e, "writing the checkpoint failed");
+    }
+}
+
+/// The engine thread: admits what arrives, processes what is ready, refreshes the snapshot,
+/// hands track sets to the publisher and checkpoints, until told to shut down.
+fn engine_loop(
+    mut engine: Engine,
+    config: ServerConfig,
+    rx: Receiver<Inbound>,
+    snapshot: Arc<Mutex<Snapshot>>,
+    overflow: Arc<AtomicU64>,
+    tracks_tx: watch::Sender<Option<(TrackSet, f64)>>,
+    ask_tx: mpsc::UnboundedSender<SensorId>,
+) {
+    let mut limiter = LogLimiter::new(5.0);
+    let mut last_checkpoint = clock::now();
+    let mut reported_overflow = 0;
+    let mut shutting_down = false;
+    while !shutting_down {
+        let now = clock::now();
+        let wait = engine
+            .next_ready_at()
+            .map_or(0.05, |at| (at - now).clamp(0.0, 0.05));
+        let first = match rx.recv_timeout(Duration::from_secs_f64(wait)) {
+            Ok(msg) => Some(msg),
+            Err(RecvTimeoutError::Timeout) => None,
+            Err(RecvTimeoutError::Disconnected) => Some(Inbound::Shutdown),
+        };
+        for msg in first
+            .into_iter()
+            .chain(std::iter::from_fn(|| rx.try_recv().ok()))
+        {
+            match msg {
+                Inbound::Shutdown => shutting_down = true,
+                other => handle(&mut engine, other, &mut limiter, &ask_tx),
+            }
+        }
+        let now = clock::now();
+        let sets = if shutting_down {
+            engine.drain(now)
+        } else {
+            engine.step(now)
+        };
+        if let Some(last) = sets.last() {
+            let _ = tracks_tx.send(Some((last.clone(), now)));
+        }
+        let dropped = overflow.load(Ordering::Relaxed);
+        if dropped > reported_overflow {
+            if limiter.allow("overflow", now).is_some() {
+                tracing::warn!(dropped, "ingest queue full: sets dropped");
+            }
+            reported_overflow = dropped;
+        }
+        {
+            let mut status = engine.status(now);
+            status.rejected.invalid += dropped;
+            let mut guard = snapshot.lock().unwrap_or_else(|p| p.into_inner());
+            guard.tracks = engine.tracks().clone();
+            guard.status = status;
+        }
+        if shutting_down || now - last_checkpoint >= config.checkpoint.interval_s {
+            save_checkpoint(&config, &engine);
+            last_checkpoint = now;
+        }
+    }
+}
+
+fn handle(
+    engine: &mut Engine,
+    msg: Inbound,
+    limiter: &mut LogLimiter,
+    ask_tx: &mpsc::UnboundedSender<SensorId>,
+) {
+    let now = clock::now();
+    let result = match msg {
+        Inbound::Set {
+            key_sensor,
+            payload,
+            format,
+            arrived,
+        } => match format {
+            Ok(format) => engine
+                .admit_set(Some(&key_sensor), &payload, format, arrived)
+                .map(|_| ()),
+            Err(e) => Err(engine.reject_undecodable(Some(&key_sensor), e)),
+        },
+        Inbound::Descriptor { payload, format } => match format {
+            Ok(format) => engine.admit_descriptor(&payload, format).map(|learned| {
+                tracing::debug!(?learned, "descriptor");
+            }),
+            Err(e) => Err(engine.reject_undecodable(None, e)),
+        },
+        Inbound::Alive { sensor, alive } => {
+            tracing::info!(sensor = %sensor, alive, "liveliness");
+            engine.set_alive(&sensor, alive);
+            if alive && !engine.is_known(&sensor) {
+                let _ = ask_tx.send(sensor);
+            }
+            Ok(())
+        }
+        Inbound::Shutdown => Ok(()),
+    };
+    if let Err(rejection) = result {
+        if let Rejection::UnknownSensor(sensor, count) = &rejection {
+            // Ask on the first set, then now and then in case the first answer was lost.
+            if *count % 200 == 1 {
+                let _ = ask_tx.send(sensor.clone());
+            }
+        }
+        let key = rejection_key(&rejection);
+        if let Some(suppressed) = limiter.allow(&key, now) {
+            tracing::warn!(suppressed, "{rejection}");
+        }
+    }
+}
+
+fn rejection_key(rejection: &Rejection) -> String {
+    match rejection {
+        Rejection::Undecodable(_) => "undecodable".into(),
+        Rejection::Invalid { sensor, .. } => format!("invalid/{sensor}"),
+        Rejection::UnknownSensor(sensor, _) => format!("unknown/{sensor}"),
+        Rejection::Late { sensor, .. } => format!("late/{sensor}"),
+        Rejection::Overflow(sensor) => format!("overflow/{sensor}"),
+    }
+}

@@ -1,0 +1,236 @@
+//! The labelled multi-sensor tracker: one [`GmPhdFilter`] plus label continuity (Pham ch. 4)
+//! and track confirmation/deletion ([`TrackManager`]), stepped once per measurement set.
+//!
+//! One step, for a set of one sensor taken at time `t`:
+//! 1. predict the intensity to `t` and update it with the sensor's model (sequential
+//!    multi-sensor correction: each set's posterior is the next set's prior);
+//! 2. reduce it (prune, merge, cap), remembering the mixture before reduction so that each
+//!    estimate's *inherited* labels can be recovered;
+//! 3. extract estimates and keep identities continuous by a minimum-total-distance
+//!    assignment from the previous step's estimates, predicted to `t`, restricted to the
+//!    inherited labels; write the chosen labels back onto the components;
+//! 4. feed the labelled intensity to the track manager, which confirms and deletes tracks on
+//!    each label's weight over recent sets, so a single sensor's miss does not drop a track.
+
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::error::FilterError;
+use crate::extract::{ExtractError, StateExtractor, WeightThresholdExtractor};
+use crate::filter::{FilterState, GmPhdFilter};
+use crate::gaussian::{GaussianMixture, Label, LabelSource};
+use crate::labels::{
+    apply_relabelling, associate_labels, inherited_label_sets, CurrentEstimate, LabelError,
+    PreviousEstimate,
+};
+use crate::measurement::{Measurement, MeasurementModel};
+use crate::tracks::{Track, TrackError, TrackEvents, TrackManager, TrackManagerConfig};
+
+/// Why a tracker step failed. The tracker's state is unchanged when the filter rejected the
+/// input (a bad measurement or a time going backwards).
+#[derive(Debug, Error)]
+pub enum TrackerError {
+    /// The filter refused the prediction or update.
+    #[error(transparent)]
+    Filter(#[from] FilterError),
+    /// State extraction failed.
+    #[error(transparent)]
+    Extract(#[from] ExtractError),
+    /// Label association failed.
+    #[error(transparent)]
+    Labels(#[from] LabelError),
+    /// The track manager refused the intensity.
+    #[error(transparent)]
+    Tracks(#[from] TrackError),
+}
+
+/// Settings of the labelled tracker.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TrackerConfig {
+    /// A label whose mass exceeds this gives an estimate (Vo & Ma: 0.5).
+    pub extraction_threshold: f64,
+    /// Mahalanobis distance within which a pre-reduction component counts as an ancestor of
+    /// an estimate (use the reducer's merge threshold U).
+    pub merge_threshold: f64,
+    /// Interval assumed before the very first set, so that its prediction has births.
+    pub first_interval_s: f64,
+    /// Track confirmation and deletion.
+    pub tracks: TrackManagerConfig,
+}
+
+impl Default for TrackerConfig {
+    fn default() -> Self {
+        Self {
+            extraction_threshold: 0.5,
+            merge_threshold: 4.0,
+            first_interval_s: 0.1,
+            tracks: TrackManagerConfig::default(),
+        }
+    }
+}
+
+/// A labelled estimate of the previous step, kept to carry identities to the next one.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct LabelledEstimate {
+    label: Label,
+    mean: DVector<f64>,
+    cov: DMatrix<f64>,
+}
+
+/// Everything a checkpoint needs to resume with the same identities.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrackerState {
+    /// The filter's intensity, time and next label.
+    pub filter: FilterState,
+    /// The track manager, with each label's recent weights.
+    pub tracks: TrackManager,
+    /// The previous step's estimates (label continuity).
+    previous: Vec<LabelledEstimate>,
+    /// The previous estimates' time.
+    previous_time: f64,
+    /// False until the first set was processed.
+    started: bool,
+}
+
+impl TrackerState {
+    /// Time of the last processed set, if any.
+    pub fn last_time(&self) -> Option<f64> {
+        self.started.then_some(self.filter.time)
+    }
+}
+
+/// The labelled tracker; see the module documentation.
+#[derive(Debug)]
+pub struct LabelledTracker {
+    filter: GmPhdFilter,
+    config: TrackerConfig,
+    extractor: WeightThresholdExtractor,
+    tracks: TrackManager,
+    previous: Vec<LabelledEstimate>,
+    previous_time: f64,
+    started: bool,
+}
+
+impl LabelledTracker {
+    /// A tracker around `filter` (whose start time is replaced by the first set's stamp).
+    pub fn new(filter: GmPhdFilter, config: TrackerConfig) -> Result<Self, TrackerError> {
+        let tracks = TrackManager::new(config.tracks)?;
+        Ok(Self {
+            filter,
+            extractor: WeightThresholdExtractor {
+                threshold: config.extraction_threshold,
+                ..WeightThresholdExtractor::default()
+            },
+            config,
+            tracks,
+            previous: Vec::new(),
+            previous_time: 0.0,
+            started: false,
+        })
+    }
+
+    /// The filter (intensity, time, motion model).
+    pub fn filter(&self) -> &GmPhdFilter {
+        &self.filter
+    }
+
+    /// Time of the last processed set, if any.
+    pub fn last_time(&self) -> Option<f64> {
+        self.started.then(|| self.filter.time())
+    }
+
+    /// Confirmed tracks, by label.
+    pub fn confirmed_tracks(&self) -> impl Iterator<Item = &Track> {
+        self.tracks.confirmed_tracks()
+    }
+
+    /// The track manager (all tracks, tentative ones included).
+    pub fn track_manager(&self) -> &TrackManager {
+        &self.tracks
+    }
+
+    /// Processes one sensor's set taken at time `t` (which must not precede the last one).
+    pub fn step(
+        &mut self,
+        t: f64,
+        sensor: &dyn MeasurementModel,
+        measurements: &[Measurement],
+    ) -> Result<TrackEvents, TrackerError> {
+        if !self.started {
+            let mut state = self.filter.state();
+            state.time = t - self.config.first_interval_s;
+            self.filter.restore(state)?;
+        }
+        self.filter.predict_to(t)?;
+        self.filter.update(sensor, measurements)?;
+        self.started = true;
+        let before_reduction = self.filter.intensity().clone();
+        self.filter.reduce();
+        self.relabel(t, &before_reduction)?;
+        Ok(self.tracks.update(t, self.filter.intensity())?)
+    }
+
+    /// Label continuity (Pham ch. 4): assignment from the previous estimates to the current.
+    fn relabel(&mut self, t: f64, before_reduction: &GaussianMixture) -> Result<(), TrackerError> {
+        let mut mixture = self.filter.intensity().clone();
+        let estimates = self.extractor.extract(&mixture)?;
+        let inherited = inherited_label_sets(before_reduction, &estimates, self.config.merge_threshold)?;
+        let motion = self.filter.motion();
+        let dt = (t - self.previous_time).max(0.0);
+        let position = |x: &DVector<f64>| DVector::from_column_slice(motion.position(x).as_slice());
+        let mut previous = Vec::with_capacity(self.previous.len());
+        for estimate in &self.previous {
+            let (predicted, _) = motion.predict(&estimate.mean, &estimate.cov, dt)?;
+            previous.push(PreviousEstimate {
+                label: estimate.label,
+                predicted: position(&predicted),
+            });
+        }
+        let current: Vec<CurrentEstimate> = estimates
+            .iter()
+            .zip(inherited)
+            .map(|(estimate, inherited)| CurrentEstimate {
+                mean: position(&estimate.mean),
+                weight: estimate.weight,
+                inherited,
+            })
+            .collect();
+        let mut source = LabelSource::starting_at(self.filter.next_label());
+        let relabelling = associate_labels(&previous, &current, &mut source)?;
+        apply_relabelling(&mut mixture, &estimates, &relabelling, &mut source)?;
+        self.filter.set_intensity(mixture)?;
+        self.previous = estimates
+            .iter()
+            .zip(&relabelling.labels)
+            .map(|(estimate, &label)| LabelledEstimate {
+                label,
+                mean: estimate.mean.clone(),
+                cov: estimate.cov.clone(),
+            })
+            .collect();
+        self.previous_time = t;
+        Ok(())
+    }
+
+    /// The state to checkpoint.
+    pub fn state(&self) -> TrackerState {
+        TrackerState {
+            filter: self.filter.state(),
+            tracks: self.tracks.clone(),
+            previous: self.previous.clone(),
+            previous_time: self.previous_time,
+            started: self.started,
+        }
+    }
+
+    /// Resumes from a checkpointed state.
+    pub fn restore(&mut self, state: TrackerState) -> Result<(), TrackerError> {
+        self.filter.restore(state.filter)?;
+        self.tracks = state.tracks;
+        self.previous = state.previous;
+        self.previous_time = state.previous_time;
+        self.started = state.started;
+        Ok(())
+    }
+}
