@@ -18,10 +18,11 @@
 //! and the per-step association with the truth below would count an arbitrary
 //! "switch" there.
 //!
-//! Each step the labelled pipeline (`labelled_pipeline`: filter, Pham ch. 4
-//! association, track manager) is run, its estimates are associated with the truth
+//! Each step the labelled tracker (`LabelledTracker`: filter, Pham ch. 4
+//! association, track manager) is run, its estimates are extracted from the
+//! relabelled intensity and associated with the truth
 //! within 50 m, and [`LabelContinuity`] counts the distinct labels per true
-//! object; the same is done for the pipeline's confirmed tracks. For comparison the
+//! object; the same is done for the tracker's confirmed tracks. For comparison the
 //! same measurements are run through the filter alone, whose labels are those
 //! components inherit from birth (merges keep the heaviest's).
 //!
@@ -35,16 +36,13 @@ use gmphd::extract::{StateExtractor, WeightThresholdExtractor};
 use gmphd::metrics::LabelContinuity;
 use gmphd::{
     BirthTiming, ConstantVelocity, Detection, FilterConfig, GaussianMixture, GmPhdFilter, Label,
-    Measurement, MeasurementModel, MixtureBirth, PositionSensor, PruneMergeCap, Survival,
-    UnscentedParams,
+    LabelledTracker, Measurement, MeasurementModel, MixtureBirth, PositionSensor, PruneMergeCap,
+    Survival, TrackerConfig, UnscentedParams,
 };
-use labelled_pipeline::LabelledPipeline;
 use nalgebra::{DMatrix, DVector};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, Poisson};
-
-mod labelled_pipeline;
 
 const STEPS: usize = 100;
 const RUNS: u64 = 200;
@@ -146,6 +144,14 @@ fn labelled_positions(intensity: &GaussianMixture) -> Vec<(Label, DVector<f64>)>
         .collect()
 }
 
+/// Labelled positions of the tracker's confirmed tracks.
+fn confirmed_positions(tracker: &LabelledTracker) -> Vec<(Label, DVector<f64>)> {
+    tracker
+        .confirmed_tracks()
+        .map(|track| (track.label, track.mean.rows(0, 2).into_owned()))
+        .collect()
+}
+
 #[test]
 fn pham_example_2_mean_labels_per_track() {
     let sensor = sensor();
@@ -154,7 +160,7 @@ fn pham_example_2_mean_labels_per_track() {
     let (mut confirmed_labels, mut confirmed_tracks) = (0, 0);
     for run in 0..RUNS {
         let mut rng = ChaCha8Rng::seed_from_u64(1000 + run);
-        let mut pipeline = LabelledPipeline::new(filter());
+        let mut tracker = LabelledTracker::new(filter(), TrackerConfig::default()).unwrap();
         let mut plain = filter();
         let mut with_association = LabelContinuity::new();
         let mut without_association = LabelContinuity::new();
@@ -163,7 +169,8 @@ fn pham_example_2_mean_labels_per_track() {
             let truth = truth_at(k);
             let measurements = scan(&truth, &sensor, &mut rng);
             let t = k as f64;
-            let estimates = pipeline.step(t, &sensor, &measurements);
+            tracker.step(t, &sensor, &measurements).unwrap();
+            let estimates = labelled_positions(tracker.filter().intensity());
             plain.predict_to(t).unwrap();
             plain.update(&sensor, &measurements).unwrap();
             plain.reduce();
@@ -178,7 +185,7 @@ fn pham_example_2_mean_labels_per_track() {
                 )
                 .unwrap();
             on_confirmed_tracks
-                .associate_step(&truth, &pipeline.confirmed_tracks(), ASSOCIATION_CUTOFF)
+                .associate_step(&truth, &confirmed_positions(&tracker), ASSOCIATION_CUTOFF)
                 .unwrap();
         }
         tracked_labels += with_association.total_labels();
