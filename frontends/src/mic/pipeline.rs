@@ -1,0 +1,148 @@
+//! The microphone-pair pipeline: audio → frames → GCC-PHAT → the K strongest in-range peaks as TDOAs.
+
+use super::audio::StereoAudio;
+use super::config::MicPairConfig;
+use super::error::MicError;
+use super::framing::FrameLayout;
+use super::gcc_phat::{GccPhat, GccPhatSettings};
+use super::peaks::{strongest_peaks, RefinedPeak};
+
+/// The TDOA measurement set of one audio frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TdoaFrame {
+    /// Capture time of the frame's centre: the audio's start time plus the centre's offset, in seconds.
+    pub stamp: f64,
+    /// TDOAs in seconds, strongest correlation peak first; `tau = (‖x − m2‖ − ‖x − m1‖)/c`, positive when the
+    /// source is closer to mic 1. Each lies in [−d/c, d/c]. Empty when no peak passed the threshold.
+    pub tdoas: Vec<f64>,
+}
+
+/// One reported correlation peak.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TdoaPeak {
+    /// The TDOA in seconds (protocol sign convention, see [`TdoaFrame::tdoas`]).
+    pub tdoa: f64,
+    /// Normalised GCC-PHAT height of the peak (1 for two exactly delayed copies).
+    pub strength: f64,
+}
+
+/// Turns two-channel audio into TDOA measurement sets, reusing its FFT plans and buffers for every frame.
+pub struct MicPairPipeline {
+    config: MicPairConfig,
+    sample_rate: u32,
+    layout: FrameLayout,
+    gcc: GccPhat,
+    max_lag_samples: f64,
+    refined: Vec<RefinedPeak>,
+    peaks: Vec<TdoaPeak>,
+}
+
+impl MicPairPipeline {
+    /// Builds a pipeline for audio sampled at `sample_rate` Hz, after validating `config`.
+    pub fn new(config: MicPairConfig, sample_rate: u32) -> Result<Self, MicError> {
+        config.validate()?;
+        if sample_rate == 0 {
+            return Err(MicError::InvalidSampleRate(sample_rate));
+        }
+        let rate = f64::from(sample_rate);
+        let frame_len = (config.frame_duration * rate).round() as usize;
+        let hop = config
+            .hop_duration
+            .map_or(frame_len, |hop| (hop * rate).round() as usize);
+        let layout = FrameLayout::new(frame_len, hop, sample_rate)?;
+        let max_lag_samples = config.max_tdoa() * rate;
+        let gcc = GccPhat::new(GccPhatSettings {
+            frame_len,
+            max_lag: max_lag_samples,
+            interpolation: config.interpolation,
+            sample_rate,
+            min_frequency: config.min_frequency,
+            max_frequency: config.max_frequency.unwrap_or(rate / 2.0),
+            phat_floor: config.phat_floor,
+            median_gate: config.median_gate,
+        })?;
+        Ok(Self {
+            refined: Vec::with_capacity(config.max_peaks),
+            peaks: Vec::with_capacity(config.max_peaks),
+            config,
+            sample_rate,
+            layout,
+            gcc,
+            max_lag_samples,
+        })
+    }
+
+    /// The configuration this pipeline runs with.
+    pub fn config(&self) -> &MicPairConfig {
+        &self.config
+    }
+
+    /// Sample rate in Hz the pipeline was built for.
+    pub fn sample_rate(&self) -> u32 {
+        self.sample_rate
+    }
+
+    /// How frames are cut from the signal (length and hop in samples).
+    pub fn layout(&self) -> FrameLayout {
+        self.layout
+    }
+
+    /// The strongest peaks of one frame pair (each slice exactly `layout().frame_len()` samples long).
+    ///
+    /// The returned slice lives in the pipeline and is overwritten by the next call.
+    pub fn frame_peaks(&mut self, mic1: &[f64], mic2: &[f64]) -> Result<&[TdoaPeak], MicError> {
+        let window = self.gcc.correlate(mic1, mic2)?;
+        self.peaks.clear();
+        if window.spectral_contrast < self.config.min_spectral_contrast {
+            // As flat as noise: no speech in this frame, so an empty set rather than noise maxima.
+            return Ok(&self.peaks);
+        }
+        strongest_peaks(
+            window.values,
+            self.config.peak_threshold,
+            self.config.max_peaks,
+            &mut self.refined,
+        );
+        let fine_step = 1.0 / window.interpolation as f64;
+        let rate = f64::from(self.sample_rate);
+        for peak in &self.refined {
+            let lag = (window.first_fine_lag as f64 + peak.position) * fine_step;
+            // Peaks in the half-sample margin beyond ±d/c belong to end-fire sources: report them at ±d/c.
+            let lag = lag.clamp(-self.max_lag_samples, self.max_lag_samples);
+            self.peaks.push(TdoaPeak {
+                tdoa: lag / rate,
+                strength: peak.value,
+            });
+        }
+        Ok(&self.peaks)
+    }
+
+    /// Every whole frame of `audio` as a TDOA set; `start_time` is the capture time of the first sample.
+    pub fn process(
+        &mut self,
+        audio: &StereoAudio,
+        start_time: f64,
+    ) -> Result<Vec<TdoaFrame>, MicError> {
+        if audio.sample_rate() != self.sample_rate {
+            return Err(MicError::PipelineRateMismatch {
+                expected: self.sample_rate,
+                actual: audio.sample_rate(),
+            });
+        }
+        if !start_time.is_finite() {
+            return Err(MicError::NonFiniteStartTime(start_time));
+        }
+        let layout = self.layout;
+        let frame_len = layout.frame_len();
+        let mut frames = Vec::with_capacity(layout.frame_count(audio.len()));
+        for span in layout.spans(audio.len()) {
+            let range = span.start..span.start + frame_len;
+            let peaks = self.frame_peaks(&audio.mic1()[range.clone()], &audio.mic2()[range])?;
+            frames.push(TdoaFrame {
+                stamp: start_time + span.centre_time,
+                tdoas: peaks.iter().map(|peak| peak.tdoa).collect(),
+            });
+        }
+        Ok(frames)
+    }
+}

@@ -1,0 +1,101 @@
+//! Two talkers in a reverberant room: the pipeline's TDOA sets contain each active talker's true TDOA.
+
+#[path = "support/room_model.rs"]
+mod room_model;
+#[path = "support/room_scene.rs"]
+mod room_scene;
+#[path = "support/room_speech.rs"]
+mod room_speech;
+
+use frontends::mic::{MicPairConfig, MicPairPipeline, StereoAudio};
+use room_model::{schroeder_t60, ShoeboxRoom};
+use room_scene::{
+    render_scene, talker_active_in_frame, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE, SPEED_OF_SOUND, T60,
+};
+use room_speech::Voice;
+
+/// Two samples at 16 kHz: how close a reported peak must be to a talker's true TDOA.
+const TOLERANCE_S: f64 = 2.0 / 16_000.0;
+
+/// A lower voice on the mic-1 side speaking first, a higher one on the mic-2 side later, overlapping 4.0–7.5 s.
+fn two_talkers() -> Vec<TalkerSpec> {
+    vec![
+        TalkerSpec {
+            position: [0.8, 2.3, 1.6],
+            interval: (0.3, 7.5),
+            voice: Voice {
+                min_pitch: 100.0,
+                max_pitch: 150.0,
+            },
+        },
+        TalkerSpec {
+            position: [2.4, 0.7, 1.5],
+            interval: (4.0, 11.7),
+            voice: Voice {
+                min_pitch: 170.0,
+                max_pitch: 250.0,
+            },
+        },
+    ]
+}
+
+#[test]
+fn room_reverberation_time_is_near_the_target() {
+    let room = ShoeboxRoom::with_sabine_t60(ROOM_SIZE, T60);
+    let rate = f64::from(SAMPLE_RATE);
+    for talker in two_talkers() {
+        for mic in MICS {
+            let response = room.impulse_response(talker.position, mic, rate, SPEED_OF_SOUND, 8000);
+            let measured = schroeder_t60(&response, rate);
+            println!(
+                "β = {:.3}; talker {:?} → mic {mic:?}: T60 (Schroeder, T20) {measured:.3} s, target {T60} s",
+                room.reflection, talker.position
+            );
+            assert!((measured - T60).abs() <= 0.2 * T60, "T60 {measured} s");
+        }
+    }
+}
+
+#[test]
+fn each_active_talker_is_found_in_at_least_80_percent_of_its_frames() {
+    let room = ShoeboxRoom::with_sabine_t60(ROOM_SIZE, T60);
+    let scene = render_scene(&room, &two_talkers(), 12.0, 20.0, 7);
+    let audio = StereoAudio::new(SAMPLE_RATE, scene.mic1.clone(), scene.mic2.clone()).unwrap();
+    let mut pipeline = MicPairPipeline::new(MicPairConfig::new(0.5), SAMPLE_RATE).unwrap();
+    let start_time = 1_763_700_000.0;
+    let frames = pipeline.process(&audio, start_time).unwrap();
+    let layout = pipeline.layout();
+    assert_eq!(frames.len(), layout.frame_count(audio.len()));
+
+    for (index, talker) in scene.talkers.iter().enumerate() {
+        let (mut active, mut found) = (0, 0);
+        for (frame_index, frame) in frames.iter().enumerate() {
+            if !talker_active_in_frame(talker, layout.span(frame_index).start, layout.frame_len()) {
+                continue;
+            }
+            active += 1;
+            if frame.tdoas.iter().any(|tau| (tau - talker.tdoa).abs() <= TOLERANCE_S) {
+                found += 1;
+            }
+        }
+        let percent = 100.0 * f64::from(found) / f64::from(active.max(1));
+        println!(
+            "talker {} (true TDOA {:+.1} µs = {:+.2} samples): within 2 samples in {found} of {active} active frames = {percent:.1} %",
+            index + 1,
+            talker.tdoa * 1e6,
+            talker.tdoa * f64::from(SAMPLE_RATE)
+        );
+        assert!(active >= 20, "talker {} is active in only {active} frames", index + 1);
+        assert!(percent >= 80.0, "talker {} found in only {percent:.1} % of its frames", index + 1);
+    }
+
+    let reported: usize = frames.iter().map(|frame| frame.tdoas.len()).sum();
+    let empty = frames.iter().filter(|frame| frame.tdoas.is_empty()).count();
+    println!(
+        "{} frames, {:.2} TDOAs per frame on average, {empty} empty",
+        frames.len(),
+        reported as f64 / frames.len() as f64
+    );
+    let max_tdoa = 0.5 / SPEED_OF_SOUND;
+    assert!(frames.iter().flat_map(|f| &f.tdoas).all(|tau| tau.abs() <= max_tdoa));
+}
