@@ -2,6 +2,8 @@
 //! (simulations only) and to the tracks, score them with OSPA/GOSPA, and query `tracks` and
 //! `status`. Used by `fusion-checker` (compose tests), `fusion-demo` and the integration tests.
 
+pub mod processes;
+
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;

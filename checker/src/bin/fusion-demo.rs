@@ -1,0 +1,199 @@
+//! `fusion-demo`: the whole pipeline on one machine. Starts the fusion server and one simulated
+//! edge agent per sensor of the default room (or `--scenario`), in Zenoh peer mode on loopback,
+//! prints live tracks, and at the end OSPA against the truth and an SVG plot.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use checker::processes::{binary, free_port, Managed};
+use checker::{mean_ospa, query_status, Observer};
+use clap::Parser;
+use fusion_server::plot::{plot, PlotData};
+use protocol::WireFormat;
+use transport::ZenohConfig;
+
+/// Run the fusion server and simulated agents together and watch the tracks.
+#[derive(Parser)]
+#[command(version, about)]
+struct Args {
+    /// Seconds of scenario to run.
+    #[arg(long, default_value_t = 30.0)]
+    duration: f64,
+    /// Scenario file (simulator/SCENARIOS.md); the built-in room when absent.
+    #[arg(long)]
+    scenario: Option<PathBuf>,
+    /// Seed of the simulation.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Where to write the plot of tracks over truth.
+    #[arg(long, default_value = "fusion-demo.svg")]
+    plot: PathBuf,
+    /// Directory for the processes' logs.
+    #[arg(long, default_value = "fusion-demo-logs")]
+    logs: PathBuf,
+}
+
+#[tokio::main(flavor = "multi_thread", worker_threads = 2)]
+async fn main() -> anyhow::Result<()> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "warn".into()),
+        )
+        .init();
+    let args = Args::parse();
+    let scenario = match &args.scenario {
+        Some(path) => simulator::Scenario::from_file(path)?,
+        None => simulator::default_room(),
+    };
+    let site = scenario.site.clone();
+    let server_bin = binary("fusion-server")?;
+    let agent_bin = binary("edge-agent")?;
+    std::fs::create_dir_all(&args.logs)?;
+    let port = free_port()?;
+    let endpoint = format!("tcp/127.0.0.1:{port}");
+
+    println!(
+        "fusion-demo: server on {endpoint}, site {site}, {} sensors, {} s",
+        scenario.sensors.len(),
+        args.duration
+    );
+    let mut server_cmd = Command::new(&server_bin);
+    server_cmd
+        .arg("run")
+        .env("FUSION__ZENOH__MODE", "peer")
+        .env("FUSION__ZENOH__LISTEN", &endpoint)
+        .env("FUSION__SITE__NAME", site.as_str())
+        .env("FUSION__LOG__LEVEL", "info,zenoh=warn");
+    let mut server = Managed::spawn(
+        "fusion-server",
+        server_cmd,
+        Some(&args.logs.join("fusion-server.log")),
+    )?;
+
+    // Let the server listen before the agents connect; all agents share one start time so that
+    // their stamps and truth agree.
+    tokio::time::sleep(Duration::from_millis(500)).await;
+    let start = fusion_server::clock::now() + 1.5;
+    let mut agents = Vec::new();
+    for (i, spec) in scenario.sensors.iter().enumerate() {
+        let mut cmd = Command::new(&agent_bin);
+        cmd.args(["sim", "--mode", "peer", "--connect", &endpoint])
+            .args(["--sensor", spec.sensor.as_str()])
+            .args(["--seed", &args.seed.to_string()])
+            .args(["--start", &format!("{start:.6}")])
+            .args(["--duration", &args.duration.to_string()]);
+        if let Some(path) = &args.scenario {
+            cmd.arg("--scenario").arg(path);
+        }
+        if i == 0 {
+            cmd.arg("--truth");
+        }
+        let log = args.logs.join(format!("edge-agent-{}.log", spec.sensor));
+        agents.push(Managed::spawn(
+            &format!("edge-agent {}", spec.sensor),
+            cmd,
+            Some(&log),
+        )?);
+    }
+
+    let watcher = ZenohConfig {
+        connect: vec![endpoint.clone()],
+        ..ZenohConfig::default()
+    };
+    let session = watcher.open().await?;
+    let observer = Observer::start(&session, &site).await?;
+
+    let began = Instant::now();
+    let total = Duration::from_secs_f64(args.duration + 2.5);
+    while began.elapsed() < total {
+        tokio::time::sleep(Duration::from_secs(1)).await;
+        anyhow::ensure!(
+            server.is_running(),
+            "the fusion server exited; see {}",
+            args.logs.display()
+        );
+        let Some(tracks) = observer.latest_tracks() else {
+            println!(
+                "t = {:5.1} s  waiting for tracks …",
+                began.elapsed().as_secs_f64()
+            );
+            continue;
+        };
+        let listed: Vec<String> = tracks
+            .tracks
+            .iter()
+            .map(|t| {
+                format!(
+                    "#{} ({:.2}, {:.2}, {:.2})",
+                    t.id, t.position[0], t.position[1], t.position[2]
+                )
+            })
+            .collect();
+        println!(
+            "t = {:5.1} s  {} tracks (expected {:.2}): {}",
+            (tracks.stamp - start).max(0.0),
+            tracks.tracks.len(),
+            tracks.expected_count,
+            listed.join("  ")
+        );
+    }
+
+    let status = query_status(&session, &site, WireFormat::Json).await;
+    let observed = observer.snapshot();
+    for agent in &mut agents {
+        agent.stop(Duration::from_secs(3));
+    }
+    server.stop(Duration::from_secs(5));
+
+    println!();
+    match status {
+        Ok(status) => {
+            for s in &status.sensors {
+                println!(
+                    "sensor {:8} {:14} received {:5} processed {:5} late {:3} invalid {:3} lost {:3}",
+                    s.sensor.as_str(), s.kind.name(), s.received, s.processed, s.late, s.invalid, s.lost
+                );
+            }
+            let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
+            println!(
+                "latency from arrival to tracks (includes the reorder window): p50 {}, p99 {}; {} components",
+                ms(status.latency_ms.p50),
+                ms(status.latency_ms.p99),
+                status.components
+            );
+        }
+        Err(e) => println!("status query failed: {e}"),
+    }
+    let scores = observed.scores();
+    let truth = observed.truth_sets();
+    let max_count = truth.iter().map(|t| t.objects.len()).max().unwrap_or(0);
+    let all_in = truth
+        .iter()
+        .find(|t| t.objects.len() == max_count)
+        .map(|t| t.stamp);
+    println!(
+        "{} track sets and {} truth sets received",
+        observed.tracks.len(),
+        truth.len()
+    );
+    match mean_ospa(&scores, f64::NEG_INFINITY) {
+        Some((ospa, n)) => {
+            println!("mean OSPA over the whole run: {ospa:.3} m ({n} track sets, c = 1 m, p = 1)")
+        }
+        None => println!("no track set could be scored against the truth"),
+    }
+    if let Some((ospa, n)) = all_in.and_then(|t| mean_ospa(&scores, t + 2.0)) {
+        println!("mean OSPA once all {max_count} people are in view (+2 s): {ospa:.3} m ({n} track sets)");
+    }
+    plot(
+        PlotData {
+            tracks: &observed.tracks,
+            truth: &truth,
+            scores: &scores,
+        },
+        &args.plot,
+    )?;
+    println!("plot: {}", args.plot.display());
+    Ok(())
+}
