@@ -14,7 +14,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use room_model::{add_fractional_impulse, convolve, ShoeboxRoom};
 use room_scene::{
-    render_scene, talker_active_in_frame, Scene, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE, SPEED_OF_SOUND,
+    render_scene, talker_active_in_frame, Scene, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE,
+    SPEED_OF_SOUND,
 };
 use room_speech::Voice;
 
@@ -45,7 +46,13 @@ fn anechoic_talker(position: [f64; 3], seed: u64, snr_db: f64) -> Scene {
             max_pitch: 250.0,
         },
     };
-    render_scene(&ShoeboxRoom::anechoic(ROOM_SIZE), &[talker], 6.0, snr_db, seed)
+    render_scene(
+        &ShoeboxRoom::anechoic(ROOM_SIZE),
+        &[talker],
+        6.0,
+        snr_db,
+        seed,
+    )
 }
 
 /// The strongest TDOA of every frame in which the scene's only talker is active, in samples.
@@ -58,7 +65,9 @@ fn strongest_tdoas_while_active(scene: &Scene, config: MicPairConfig) -> Vec<f64
     frames
         .iter()
         .enumerate()
-        .filter(|(index, _)| talker_active_in_frame(talker, layout.span(*index).start, layout.frame_len()))
+        .filter(|(index, _)| {
+            talker_active_in_frame(talker, layout.span(*index).start, layout.frame_len())
+        })
         .map(|(index, frame)| {
             assert!(!frame.tdoas.is_empty(), "no TDOA in active frame {index}");
             frame.tdoas[0] * RATE
@@ -111,9 +120,15 @@ fn sign_follows_the_protocol_geometry() {
     for (position, expected_sign) in [(near_mic1, 1.0), (near_mic2, -1.0)] {
         let scene = anechoic_talker(position, 3, 20.0);
         let truth = scene.talkers[0].tdoa * RATE;
-        assert_eq!(truth.signum(), expected_sign, "the scene's own truth must follow the protocol");
+        assert_eq!(
+            truth.signum(),
+            expected_sign,
+            "the scene's own truth must follow the protocol"
+        );
         let measured = strongest_tdoas_while_active(&scene, MicPairConfig::new(MIC_DISTANCE));
-        println!("talker at {position:?}: true tau {truth:+.2} samples, strongest peaks {measured:.2?}");
+        println!(
+            "talker at {position:?}: true tau {truth:+.2} samples, strongest peaks {measured:.2?}"
+        );
         assert!(measured.len() >= 15);
         assert!(measured.iter().all(|tau| tau.signum() == expected_sign));
         assert!(measured.iter().all(|tau| (tau - truth).abs() <= 2.0));
@@ -132,8 +147,15 @@ fn end_fire_talkers_are_found_at_plus_minus_d_over_c() {
         // Half of an end-fire peak lies outside the searched range, so it is found a little less precisely.
         assert!(measured.len() >= 15);
         assert!(measured.iter().all(|tau| tau.signum() == expected.signum()));
-        let close = measured.iter().filter(|tau| (*tau - expected).abs() <= 0.5).count();
-        assert!(close * 10 >= measured.len() * 9, "only {close} of {} within 0.5 samples", measured.len());
+        let close = measured
+            .iter()
+            .filter(|tau| (*tau - expected).abs() <= 0.5)
+            .count();
+        assert!(
+            close * 10 >= measured.len() * 9,
+            "only {close} of {} within 0.5 samples",
+            measured.len()
+        );
     }
 }
 
@@ -158,12 +180,23 @@ fn single_anechoic_talker_is_located_within_a_quarter_sample() {
 #[test]
 fn noise_only_and_silent_frames_give_empty_sets() {
     let mut pipeline = MicPairPipeline::new(MicPairConfig::new(MIC_DISTANCE), SAMPLE_RATE).unwrap();
-    let noise = StereoAudio::new(SAMPLE_RATE, white_noise(160_000, 5), white_noise(160_000, 6)).unwrap();
+    let noise = StereoAudio::new(
+        SAMPLE_RATE,
+        white_noise(160_000, 5),
+        white_noise(160_000, 6),
+    )
+    .unwrap();
     let frames = pipeline.process(&noise, 0.0).unwrap();
     let with_tdoas = frames.iter().filter(|f| !f.tdoas.is_empty()).count();
-    println!("independent white noise: {with_tdoas} of {} frames with TDOAs", frames.len());
+    println!(
+        "independent white noise: {with_tdoas} of {} frames with TDOAs",
+        frames.len()
+    );
     assert_eq!(frames.len(), 39);
-    assert!(with_tdoas <= 1, "{with_tdoas} noise-only frames produced TDOAs");
+    assert!(
+        with_tdoas <= 1,
+        "{with_tdoas} noise-only frames produced TDOAs"
+    );
 
     let silence = StereoAudio::new(SAMPLE_RATE, vec![0.0; 16_000], vec![0.0; 16_000]).unwrap();
     for frame in pipeline.process(&silence, 0.0).unwrap() {

@@ -10,7 +10,8 @@ mod room_speech;
 use frontends::mic::{MicPairConfig, MicPairPipeline, StereoAudio};
 use room_model::{schroeder_t60, ShoeboxRoom};
 use room_scene::{
-    render_scene, talker_active_in_frame, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE, SPEED_OF_SOUND, T60,
+    render_scene, talker_active_in_frame, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE, SPEED_OF_SOUND,
+    T60,
 };
 use room_speech::Voice;
 
@@ -74,7 +75,11 @@ fn each_active_talker_is_found_in_at_least_80_percent_of_its_frames() {
                 continue;
             }
             active += 1;
-            if frame.tdoas.iter().any(|tau| (tau - talker.tdoa).abs() <= TOLERANCE_S) {
+            if frame
+                .tdoas
+                .iter()
+                .any(|tau| (tau - talker.tdoa).abs() <= TOLERANCE_S)
+            {
                 found += 1;
             }
         }
@@ -85,8 +90,16 @@ fn each_active_talker_is_found_in_at_least_80_percent_of_its_frames() {
             talker.tdoa * 1e6,
             talker.tdoa * f64::from(SAMPLE_RATE)
         );
-        assert!(active >= 20, "talker {} is active in only {active} frames", index + 1);
-        assert!(percent >= 80.0, "talker {} found in only {percent:.1} % of its frames", index + 1);
+        assert!(
+            active >= 20,
+            "talker {} is active in only {active} frames",
+            index + 1
+        );
+        assert!(
+            percent >= 80.0,
+            "talker {} found in only {percent:.1} % of its frames",
+            index + 1
+        );
     }
 
     let reported: usize = frames.iter().map(|frame| frame.tdoas.len()).sum();
@@ -97,5 +110,8 @@ fn each_active_talker_is_found_in_at_least_80_percent_of_its_frames() {
         reported as f64 / frames.len() as f64
     );
     let max_tdoa = 0.5 / SPEED_OF_SOUND;
-    assert!(frames.iter().flat_map(|f| &f.tdoas).all(|tau| tau.abs() <= max_tdoa));
+    assert!(frames
+        .iter()
+        .flat_map(|f| &f.tdoas)
+        .all(|tau| tau.abs() <= max_tdoa));
 }

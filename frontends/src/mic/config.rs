@@ -165,7 +165,10 @@ fn positive(field: &'static str, value: f64) -> Result<(), MicError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(invalid(field, format!("must be positive and finite, got {value}")))
+        Err(invalid(
+            field,
+            format!("must be positive and finite, got {value}"),
+        ))
     }
 }
 
@@ -173,7 +176,10 @@ fn non_negative(field: &'static str, value: f64) -> Result<(), MicError> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(invalid(field, format!("must be finite and ≥ 0, got {value}")))
+        Err(invalid(
+            field,
+            format!("must be finite and ≥ 0, got {value}"),
+        ))
     }
 }
 

@@ -117,7 +117,9 @@ pub enum MicError {
         actual: u32,
     },
     /// A single frame of the wrong length handed to the pipeline.
-    #[error("frame of {mic1} / {mic2} samples (mic 1 / mic 2) given, the pipeline expects {expected}")]
+    #[error(
+        "frame of {mic1} / {mic2} samples (mic 1 / mic 2) given, the pipeline expects {expected}"
+    )]
     FrameLength {
         /// The frame length the pipeline was built for.
         expected: usize,

@@ -88,7 +88,10 @@ impl GccPhat {
             ..
         } = settings;
         if !(max_lag.is_finite() && max_lag > 0.0) {
-            return Err(invalid("mic_distance", "must give a positive, finite largest lag".into()));
+            return Err(invalid(
+                "mic_distance",
+                "must give a positive, finite largest lag".into(),
+            ));
         }
         if interpolation == 0 {
             return Err(invalid("interpolation", "must be at least 1".into()));
@@ -107,7 +110,8 @@ impl GccPhat {
         // The window reaches half a sample beyond ±max_lag, so that the peak of a source at end-fire (exactly
         // ±d/c, or a little beyond after rounding and noise) is still an interior local maximum; plus one
         // fine-grid point so that every lag in the window has two neighbours.
-        let half_width = ((max_lag + EDGE_MARGIN_SAMPLES) * interpolation as f64).floor() as usize + 1;
+        let half_width =
+            ((max_lag + EDGE_MARGIN_SAMPLES) * interpolation as f64).floor() as usize + 1;
         Ok(Self {
             frame_len,
             interpolation,
@@ -155,7 +159,11 @@ impl GccPhat {
                 &mut self.inverse_scratch,
             )
             .map_err(|e| MicError::Fft(e.to_string()))?;
-        let scale = if weight_sum > 0.0 { 1.0 / weight_sum } else { 0.0 };
+        let scale = if weight_sum > 0.0 {
+            1.0 / weight_sum
+        } else {
+            0.0
+        };
         let fine_len = self.correlation.len() as isize;
         let half = self.half_width as isize;
         for (slot, fine_lag) in self.lag_values.iter_mut().zip(-half..=half) {

@@ -22,5 +22,5 @@ pub use error::MicError;
 pub use framing::{FrameLayout, FrameSpan};
 pub use gcc_phat::{GccPhat, GccPhatSettings, LagWindow, EDGE_MARGIN_SAMPLES};
 pub use peaks::{strongest_peaks, RefinedPeak};
-pub use pipeline::{MicPairPipeline, TdoaFrame, TdoaPeak};
+pub use pipeline::{MicPairPipeline, TdoaFrame, TdoaPeak, MAX_FRAME_LEN};
 pub use wav::{read_mono_pair, read_stereo_wav};

@@ -84,6 +84,9 @@ mod tests {
         let mut peaks = Vec::new();
         strongest_peaks(&values, 0.0, 5, &mut peaks);
         assert_eq!(peaks.len(), 1);
-        assert_eq!(peaks[0].position, 2.5, "vertex of the parabola through the plateau");
+        assert_eq!(
+            peaks[0].position, 2.5,
+            "vertex of the parabola through the plateau"
+        );
     }
 }

@@ -7,6 +7,10 @@ use super::framing::FrameLayout;
 use super::gcc_phat::{GccPhat, GccPhatSettings};
 use super::peaks::{strongest_peaks, RefinedPeak};
 
+/// Longest frame, in samples, a pipeline accepts (about 16 s at 16 kHz, 5.9 s at 44.1 kHz). The FFT buffers grow with it (times the
+/// interpolation factor), so a corrupt sample rate or duration must not be allowed to ask for gigabytes.
+pub const MAX_FRAME_LEN: usize = 1 << 18;
+
 /// The TDOA measurement set of one audio frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TdoaFrame {
@@ -49,6 +53,14 @@ impl MicPairPipeline {
         let hop = config
             .hop_duration
             .map_or(frame_len, |hop| (hop * rate).round() as usize);
+        if frame_len > MAX_FRAME_LEN {
+            return Err(MicError::InvalidConfig {
+                field: "frame_duration",
+                reason: format!(
+                    "gives {frame_len} samples at {sample_rate} Hz, more than the supported {MAX_FRAME_LEN}"
+                ),
+            });
+        }
         let layout = FrameLayout::new(frame_len, hop, sample_rate)?;
         let max_lag_samples = config.max_tdoa() * rate;
         let gcc = GccPhat::new(GccPhatSettings {

@@ -76,7 +76,8 @@ impl ShoeboxRoom {
                     if distance > max_distance {
                         continue;
                     }
-                    let gain = self.reflection.powi(rx + ry + rz) / (4.0 * std::f64::consts::PI * distance);
+                    let gain = self.reflection.powi(rx + ry + rz)
+                        / (4.0 * std::f64::consts::PI * distance);
                     add_fractional_impulse(&mut response, distance / c * sample_rate, gain);
                 }
             }
@@ -85,7 +86,13 @@ impl ShoeboxRoom {
     }
 
     /// Per axis: (mic coordinate − image coordinate, number of reflections) for every image within reach.
-    fn axis_images(&self, axis: usize, source: f64, mic: f64, max_distance: f64) -> Vec<(f64, i32)> {
+    fn axis_images(
+        &self,
+        axis: usize,
+        source: f64,
+        mic: f64,
+        max_distance: f64,
+    ) -> Vec<(f64, i32)> {
         let length = self.size[axis];
         let max_order = (max_distance / (2.0 * length)).ceil() as i32 + 1;
         let mut images = Vec::new();
@@ -134,7 +141,9 @@ pub fn convolve(signal: &[f64], filter: &[f64]) -> Vec<f64> {
         let mut input = forward.make_input_vec();
         input[..x.len()].copy_from_slice(x);
         let mut spectrum = forward.make_output_vec();
-        forward.process(&mut input, &mut spectrum).expect("buffers sized by the plan");
+        forward
+            .process(&mut input, &mut spectrum)
+            .expect("buffers sized by the plan");
         spectrum
     };
     let mut product: Vec<_> = spectrum_of(signal)
@@ -143,7 +152,9 @@ pub fn convolve(signal: &[f64], filter: &[f64]) -> Vec<f64> {
         .map(|(a, b)| a * b / fft_len as f64)
         .collect();
     let mut output = inverse.make_output_vec();
-    inverse.process(&mut product, &mut output).expect("buffers sized by the plan");
+    inverse
+        .process(&mut product, &mut output)
+        .expect("buffers sized by the plan");
     output.truncate(signal.len());
     output
 }
@@ -151,21 +162,33 @@ pub fn convolve(signal: &[f64], filter: &[f64]) -> Vec<f64> {
 /// Reverberation time estimated from an impulse response by Schroeder backward integration: the −5 to −25 dB
 /// slope of the energy decay curve, extrapolated to −60 dB (T20).
 pub fn schroeder_t60(response: &[f64], sample_rate: f64) -> f64 {
-    let mut decay: Vec<f64> = response.iter().rev().scan(0.0, |sum, h| {
-        *sum += h * h;
-        Some(*sum)
-    }).collect();
+    let mut decay: Vec<f64> = response
+        .iter()
+        .rev()
+        .scan(0.0, |sum, h| {
+            *sum += h * h;
+            Some(*sum)
+        })
+        .collect();
     decay.reverse();
     let total = decay[0];
     let level = |i: usize| 10.0 * (decay[i] / total).log10();
-    let time_at = |db: f64| (0..decay.len()).find(|&i| level(i) <= db).unwrap_or(decay.len() - 1);
+    let time_at = |db: f64| {
+        (0..decay.len())
+            .find(|&i| level(i) <= db)
+            .unwrap_or(decay.len() - 1)
+    };
     let (t5, t25) = (time_at(-5.0), time_at(-25.0));
     3.0 * (t25 - t5) as f64 / sample_rate
 }
 
 /// Euclidean distance between two points.
 pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt()
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The protocol's TDOA of a source at `x` for mics `m1`, `m2`: (‖x − m2‖ − ‖x − m1‖)/c.

@@ -73,7 +73,8 @@ pub fn render_scene(
     for talker in talkers {
         let dry = speech_like(&mut rng, talker.voice, rate, total_len, talker.interval);
         for (signal, mic) in mics.iter_mut().zip(MICS) {
-            let response = room.impulse_response(talker.position, mic, rate, SPEED_OF_SOUND, response_len);
+            let response =
+                room.impulse_response(talker.position, mic, rate, SPEED_OF_SOUND, response_len);
             for (out, wet) in signal.iter_mut().zip(convolve(&dry, &response)) {
                 *out += wet;
             }
@@ -87,7 +88,9 @@ pub fn render_scene(
     }
     let speaking = |i: usize| {
         let t = i as f64 / rate;
-        talkers.iter().any(|talker| t >= talker.interval.0 && t < talker.interval.1)
+        talkers
+            .iter()
+            .any(|talker| t >= talker.interval.0 && t < talker.interval.1)
     };
     for signal in &mut mics {
         let (energy, count) = signal
@@ -120,6 +123,10 @@ pub fn talker_active_in_frame(talker: &TalkerTruth, start: usize, len: usize) ->
     if 2 * overlap < len {
         return false;
     }
-    let power = talker.dry[start..start + len].iter().map(|x| x * x).sum::<f64>() / len as f64;
+    let power = talker.dry[start..start + len]
+        .iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+        / len as f64;
     power >= 0.1
 }

@@ -56,7 +56,11 @@ pub fn speech_like(
         let vowel_end = (fricative_end + vowel_len).min(end_sample);
         let centre = rng.gen_range(2500.0..5500.0);
         fricative_filter.tune(&[(centre, 1500.0, 1.0)], sample_rate);
-        fill_fricative(rng, &mut fricative_filter, &mut signal[cursor..fricative_end]);
+        fill_fricative(
+            rng,
+            &mut fricative_filter,
+            &mut signal[cursor..fricative_end],
+        );
         let vowel = VOWEL_FORMANTS[rng.gen_range(0..VOWEL_FORMANTS.len())];
         let formants: Vec<(f64, f64, f64)> = vowel
             .iter()
@@ -69,7 +73,13 @@ pub fn speech_like(
         let pitch_start = rng.gen_range(voice.min_pitch..voice.max_pitch);
         let pitch_end = pitch_start * rng.gen_range(0.85..1.15);
         let vowel = &mut signal[fricative_end..vowel_end];
-        fill_vowel(rng, &mut vowel_filter, (pitch_start, pitch_end), sample_rate, vowel);
+        fill_vowel(
+            rng,
+            &mut vowel_filter,
+            (pitch_start, pitch_end),
+            sample_rate,
+            vowel,
+        );
         // Fricatives are quieter than vowels; both vary a few dB from syllable to syllable.
         let fricative_level = 10f64.powf(rng.gen_range(-12.0..-6.0) / 20.0);
         normalise_rms(&mut signal[cursor..fricative_end], fricative_level);
@@ -159,7 +169,11 @@ impl ResonatorBank {
             .map(|&(frequency, bandwidth, amplitude)| {
                 let radius = (-std::f64::consts::PI * bandwidth / sample_rate).exp();
                 let angle = std::f64::consts::TAU * frequency / sample_rate;
-                (amplitude * (1.0 - radius), 2.0 * radius * angle.cos(), -radius * radius)
+                (
+                    amplitude * (1.0 - radius),
+                    2.0 * radius * angle.cos(),
+                    -radius * radius,
+                )
             })
             .collect();
         self.state.resize(resonances.len(), [0.0; 2]);
