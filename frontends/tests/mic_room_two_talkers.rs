@@ -57,6 +57,9 @@ fn room_reverberation_time_is_near_the_target() {
     }
 }
 
+/// Seed 7 is the scene the front end was developed on. The margin is not large: with the same defaults, seeds
+/// 7–16 give per-talker rates from 74 % to 100 % (mean 87 %), and 3 of those 10 scenes have one talker below
+/// 80 %, nearly always in frames where the other talker is louder.
 #[test]
 fn each_active_talker_is_found_in_at_least_80_percent_of_its_frames() {
     let room = ShoeboxRoom::with_sabine_t60(ROOM_SIZE, T60);

@@ -5,7 +5,15 @@
 //! those are clutter, which the PHD filter downstream is built to handle. Sign convention (protocol `mic_pair`):
 //! `tau = (‖x − m2‖ − ‖x − m1‖)/c`, positive when the source is closer to mic 1, the first channel.
 //!
+//! Per frame ([`MicPairPipeline`]): Hann window, zero-padding, real FFT of both channels; a speech-presence check
+//! (spectral contrast, frames as flat as white noise give an empty set); the cross-spectrum `Y2 · conj(Y1)`
+//! with PHAT weighting, bins below a median-relative gate left out; inverse FFT of the cross-spectrum
+//! zero-padded by the interpolation factor; the K highest local maxima above the threshold within
+//! ±(d/c + ½ sample), parabola-refined and clamped to ±d/c. FFT plans and buffers are made once per pipeline.
+//!
 //! Typical use: [`read_stereo_wav`] (or [`read_mono_pair`]) → [`MicPairPipeline::process`].
+
+#![warn(missing_docs)]
 
 mod audio;
 mod config;

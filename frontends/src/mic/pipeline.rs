@@ -7,8 +7,9 @@ use super::framing::FrameLayout;
 use super::gcc_phat::{GccPhat, GccPhatSettings};
 use super::peaks::{strongest_peaks, RefinedPeak};
 
-/// Longest frame, in samples, a pipeline accepts (about 16 s at 16 kHz, 5.9 s at 44.1 kHz). The FFT buffers grow with it (times the
-/// interpolation factor), so a corrupt sample rate or duration must not be allowed to ask for gigabytes.
+/// Longest frame, in samples, a pipeline accepts (about 16 s at 16 kHz, 5.9 s at 44.1 kHz). The FFT buffers
+/// grow with it (times the interpolation factor), so a corrupt sample rate or duration must not be allowed to
+/// ask for gigabytes.
 pub const MAX_FRAME_LEN: usize = 1 << 18;
 
 /// The TDOA measurement set of one audio frame.
@@ -17,7 +18,8 @@ pub struct TdoaFrame {
     /// Capture time of the frame's centre: the audio's start time plus the centre's offset, in seconds.
     pub stamp: f64,
     /// TDOAs in seconds, strongest correlation peak first; `tau = (‖x − m2‖ − ‖x − m1‖)/c`, positive when the
-    /// source is closer to mic 1. Each lies in [−d/c, d/c]. Empty when no peak passed the threshold.
+    /// source is closer to mic 1. Each lies in [−d/c, d/c]. Empty when the frame failed the speech-presence
+    /// check or no peak passed the threshold.
     pub tdoas: Vec<f64>,
 }
 
