@@ -1,6 +1,10 @@
-//! Measurement simulation shared by the integration tests.
+//! Measurement simulation and scoring shared by the integration tests.
+//!
+//! Every test binary compiles this module and uses only part of it.
+#![allow(dead_code)]
 
-use gmphd::{Measurement, MeasurementModel};
+use gmphd::metrics::{ospa, MetricParams};
+use gmphd::{GaussianMixture, LabelledTracker, Measurement, MeasurementModel};
 use nalgebra::{DVector, Vector3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -32,4 +36,126 @@ pub fn simulate_set(
         set.push(Measurement::new(sensor.sample_clutter(&u).unwrap()));
     }
     set
+}
+
+/// Positions (the motion model's `position_dims` leading state entries) of the
+/// tracker's confirmed tracks: the estimate set the system reports.
+pub fn confirmed_positions(tracker: &LabelledTracker) -> Vec<DVector<f64>> {
+    let dims = tracker.filter().motion().position_dims();
+    tracker
+        .confirmed_tracks()
+        .map(|track| track.mean.rows(0, dims).into_owned())
+        .collect()
+}
+
+/// Vo & Ma's extraction (2006, Table III): every component of weight > 0.5 gives
+/// round(weight) copies of its position (the first `dims` state entries).
+pub fn vo_ma_positions(intensity: &GaussianMixture, dims: usize) -> Vec<DVector<f64>> {
+    intensity
+        .iter()
+        .filter(|c| c.weight > 0.5)
+        .flat_map(|c| {
+            std::iter::repeat_n(c.mean.rows(0, dims).into_owned(), c.weight.round() as usize)
+        })
+        .collect()
+}
+
+/// OSPA and cardinality figures accumulated over the scored steps of many runs.
+#[derive(Debug, Clone)]
+pub struct Scores {
+    params: MetricParams,
+    steps: usize,
+    ospa_sum: f64,
+    /// Steps in which both sets were non-empty, and the localisation part summed over them.
+    paired_steps: usize,
+    localisation_sum: f64,
+    right_count_steps: usize,
+    ospa_when_right_sum: f64,
+    estimated_total: usize,
+    true_total: usize,
+}
+
+impl Scores {
+    /// Empty scores for OSPA with cut-off `cutoff` and order `order`.
+    pub fn new(cutoff: f64, order: f64) -> Self {
+        Self {
+            params: MetricParams::new(cutoff, order).unwrap(),
+            steps: 0,
+            ospa_sum: 0.0,
+            paired_steps: 0,
+            localisation_sum: 0.0,
+            right_count_steps: 0,
+            ospa_when_right_sum: 0.0,
+            estimated_total: 0,
+            true_total: 0,
+        }
+    }
+
+    /// Scores one step's estimates against its truth.
+    pub fn record(&mut self, truth: &[DVector<f64>], estimates: &[DVector<f64>]) {
+        let score = ospa(truth, estimates, self.params).unwrap();
+        self.steps += 1;
+        self.ospa_sum += score.distance;
+        if !truth.is_empty() && !estimates.is_empty() {
+            self.paired_steps += 1;
+            self.localisation_sum += score.localisation;
+        }
+        if truth.len() == estimates.len() {
+            self.right_count_steps += 1;
+            self.ospa_when_right_sum += score.distance;
+        }
+        self.estimated_total += estimates.len();
+        self.true_total += truth.len();
+    }
+
+    /// Number of scored steps.
+    pub fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// Mean OSPA distance over all scored steps.
+    pub fn mean_ospa(&self) -> f64 {
+        self.ospa_sum / self.steps.max(1) as f64
+    }
+
+    /// Mean localisation part of OSPA over the steps where both sets were non-empty
+    /// (elsewhere there is nothing to localise).
+    pub fn mean_localisation(&self) -> f64 {
+        self.localisation_sum / self.paired_steps.max(1) as f64
+    }
+
+    /// Fraction of scored steps with exactly as many estimates as true objects.
+    pub fn cardinality_rate(&self) -> f64 {
+        self.right_count_steps as f64 / self.steps.max(1) as f64
+    }
+
+    /// Mean OSPA over the steps where the count was right.
+    pub fn mean_ospa_when_count_right(&self) -> f64 {
+        self.ospa_when_right_sum / self.right_count_steps.max(1) as f64
+    }
+
+    /// Mean number of estimates per scored step.
+    pub fn mean_estimated_count(&self) -> f64 {
+        self.estimated_total as f64 / self.steps.max(1) as f64
+    }
+
+    /// Mean number of true objects per scored step.
+    pub fn mean_true_count(&self) -> f64 {
+        self.true_total as f64 / self.steps.max(1) as f64
+    }
+
+    /// One line with every figure, distances in `unit`.
+    pub fn summary(&self, unit: &str) -> String {
+        format!(
+            "mean OSPA {:.4} {unit} (localisation part {:.4} {unit}), count right in {:.1}% of \
+             {} steps (OSPA {:.4} {unit} there), mean count {:.2} estimated vs {:.2} true",
+            self.mean_ospa(),
+            self.mean_localisation(),
+            100.0 * self.cardinality_rate(),
+            self.steps,
+            self.mean_ospa_when_count_right(),
+            self.mean_estimated_count(),
+            self.mean_true_count(),
+        )
+    }
 }
