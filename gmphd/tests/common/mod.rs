@@ -70,6 +70,8 @@ pub struct Scores {
     paired_steps: usize,
     localisation_sum: f64,
     right_count_steps: usize,
+    /// Steps with the right, non-zero count, and their OSPA summed.
+    right_nonempty_steps: usize,
     ospa_when_right_sum: f64,
     estimated_total: usize,
     true_total: usize,
@@ -85,6 +87,7 @@ impl Scores {
             paired_steps: 0,
             localisation_sum: 0.0,
             right_count_steps: 0,
+            right_nonempty_steps: 0,
             ospa_when_right_sum: 0.0,
             estimated_total: 0,
             true_total: 0,
@@ -102,7 +105,10 @@ impl Scores {
         }
         if truth.len() == estimates.len() {
             self.right_count_steps += 1;
-            self.ospa_when_right_sum += score.distance;
+            if !truth.is_empty() {
+                self.right_nonempty_steps += 1;
+                self.ospa_when_right_sum += score.distance;
+            }
         }
         self.estimated_total += estimates.len();
         self.true_total += truth.len();
@@ -129,9 +135,10 @@ impl Scores {
         self.right_count_steps as f64 / self.steps.max(1) as f64
     }
 
-    /// Mean OSPA over the steps where the count was right.
+    /// Mean OSPA over the steps where the count was right and not zero (an empty
+    /// estimate of an empty scene scores a trivial 0).
     pub fn mean_ospa_when_count_right(&self) -> f64 {
-        self.ospa_when_right_sum / self.right_count_steps.max(1) as f64
+        self.ospa_when_right_sum / self.right_nonempty_steps.max(1) as f64
     }
 
     /// Mean number of estimates per scored step.
@@ -148,7 +155,7 @@ impl Scores {
     pub fn summary(&self, unit: &str) -> String {
         format!(
             "mean OSPA {:.4} {unit} (localisation part {:.4} {unit}), count right in {:.1}% of \
-             {} steps (OSPA {:.4} {unit} there), mean count {:.2} estimated vs {:.2} true",
+             {} steps (OSPA {:.4} {unit} where right and non-empty), mean count {:.2} estimated vs {:.2} true",
             self.mean_ospa(),
             self.mean_localisation(),
             100.0 * self.cardinality_rate(),
