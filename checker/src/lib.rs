@@ -3,6 +3,7 @@
 //! `status`. Used by `fusion-checker` (compose tests), `fusion-demo` and the integration tests.
 
 pub mod processes;
+pub mod rogue;
 
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};

@@ -265,7 +265,10 @@ impl ServerConfig {
                 .with_list_parse_key("zenoh.connect")
                 .with_list_parse_key("zenoh.listen"),
         );
-        let config: ServerConfig = builder.build()?.try_deserialize()?;
+        let mut config: ServerConfig = builder.build()?.try_deserialize()?;
+        // An empty environment variable (`FUSION__ZENOH__LISTEN=`) means "none".
+        config.zenoh.connect.retain(|e| !e.trim().is_empty());
+        config.zenoh.listen.retain(|e| !e.trim().is_empty());
         config.validate()?;
         Ok(config)
     }
@@ -277,7 +280,8 @@ impl ServerConfig {
             .map_err(|(key, reason)| invalid(&format!("zenoh.{key}"), reason))?;
         protocol::Site::new(&self.site.name).map_err(|e| invalid("site.name", e.to_string()))?;
         for i in 0..3 {
-            if !(self.site.volume_min[i] < self.site.volume_max[i]) {
+            let (lo, hi) = (self.site.volume_min[i], self.site.volume_max[i]);
+            if !lo.is_finite() || !hi.is_finite() || lo >= hi {
                 return Err(invalid(
                     "site.volume_max",
                     "every component must exceed volume_min's",
@@ -380,7 +384,10 @@ impl TracksConfig {
                 "must be between 1 and tracks.confirm_window",
             ));
         }
-        if !(self.delete_threshold >= 0.0 && self.delete_threshold < self.confirm_threshold) {
+        if !self.delete_threshold.is_finite()
+            || self.delete_threshold < 0.0
+            || self.delete_threshold >= self.confirm_threshold
+        {
             return Err(invalid(
                 "tracks.delete_threshold",
                 "must be in [0, tracks.confirm_threshold)",

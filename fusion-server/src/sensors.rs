@@ -150,6 +150,8 @@ pub struct SensorRegistry {
     sensors: BTreeMap<SensorId, Sensor>,
     /// Sensors that sent data before any descriptor was known, and how often.
     unknown: BTreeMap<SensorId, u64>,
+    /// Liveliness of sensors whose descriptor is not known yet (tokens often arrive first).
+    pending_alive: BTreeMap<SensorId, bool>,
 }
 
 impl SensorRegistry {
@@ -169,8 +171,9 @@ impl SensorRegistry {
         match self.sensors.get_mut(&descriptor.sensor) {
             None => {
                 let name = descriptor.sensor.clone();
-                self.sensors
-                    .insert(name, Sensor::new(descriptor, model, from_config));
+                let mut sensor = Sensor::new(descriptor, model, from_config);
+                sensor.alive = self.pending_alive.remove(&name).unwrap_or(false);
+                self.sensors.insert(name, sensor);
                 Learned::New
             }
             Some(known) if known.from_config && !from_config => Learned::OverriddenByConfig,
@@ -202,14 +205,18 @@ impl SensorRegistry {
         *count
     }
 
-    /// Marks a sensor's liveliness token as present or gone. Returns false for unknown sensors.
+    /// Marks a sensor's liveliness token as present or gone. For a sensor not known yet the
+    /// state is remembered and applied when its descriptor arrives. Returns false then.
     pub fn set_alive(&mut self, name: &SensorId, alive: bool) -> bool {
         match self.sensors.get_mut(name) {
             Some(sensor) => {
                 sensor.alive = alive;
                 true
             }
-            None => false,
+            None => {
+                self.pending_alive.insert(name.clone(), alive);
+                false
+            }
         }
     }
 

@@ -1,0 +1,251 @@
+//! `fusion-checker`: a client of a running deployment, for people and for the compose tests.
+//! It queries `tracks` and `status`, scores the published tracks against the simulators' truth,
+//! follows which track ids the true objects get, and can play a rogue publisher.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use checker::rogue::run_rogue;
+use checker::{mean_ospa, query_status, query_tracks, Observer};
+use clap::{Parser, Subcommand};
+use protocol::{SensorId, Site, WireFormat};
+use transport::ZenohConfig;
+
+/// Watch and probe a running fusion deployment.
+#[derive(Parser)]
+#[command(version, about)]
+struct Cli {
+    /// Zenoh mode of this client.
+    #[arg(long, default_value = "client", global = true)]
+    mode: String,
+    /// Router or peer endpoint to connect to (repeatable).
+    #[arg(long, global = true, env = "CHECKER_CONNECT", value_delimiter = ',')]
+    connect: Vec<String>,
+    /// Zenoh JSON5 configuration file (TLS, credentials).
+    #[arg(long, global = true)]
+    zenoh_config: Option<PathBuf>,
+    /// The deployment's site.
+    #[arg(long, default_value = "default", global = true)]
+    site: String,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print the server's status (JSON).
+    Status,
+    /// Print the server's current tracks (JSON).
+    Tracks,
+    /// Score published tracks against the truth for a while; fail when OSPA is too high.
+    Watch {
+        /// Seconds to watch.
+        #[arg(long, default_value_t = 30.0)]
+        duration: f64,
+        /// Seconds at the start not scored (people entering, tracks confirming).
+        #[arg(long, default_value_t = 0.0)]
+        skip: f64,
+        /// Fail (exit 1) when the mean OSPA exceeds this many metres.
+        #[arg(long)]
+        max_ospa: Option<f64>,
+    },
+    /// Wait until track sets flow; print how long it took; fail after the timeout.
+    WaitTracks {
+        /// Seconds to wait at most.
+        #[arg(long, default_value_t = 30.0)]
+        timeout: f64,
+    },
+    /// Watch for a while and print, as JSON, which track ids each true object got.
+    Ids {
+        /// Seconds to watch.
+        #[arg(long, default_value_t = 5.0)]
+        duration: f64,
+    },
+    /// Publish garbage, invalid and unknown-sensor sets, impersonating a sensor.
+    Rogue {
+        /// The sensor whose key is abused.
+        #[arg(long, default_value = "cam1")]
+        victim: String,
+        /// Seconds to misbehave.
+        #[arg(long, default_value_t = 10.0)]
+        duration: f64,
+        /// Messages per second.
+        #[arg(long, default_value_t = 200.0)]
+        rate: f64,
+    },
+}
+
+#[tokio::main(flavor = "multi_thread", worker_threads = 2)]
+async fn main() -> anyhow::Result<()> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env().unwrap_or_else(|_| "warn".into()),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let cli = Cli::parse();
+    let site = Site::new(&cli.site)?;
+    let config = ZenohConfig {
+        mode: cli.mode.clone(),
+        connect: cli.connect.clone(),
+        listen: Vec::new(),
+        scouting: false,
+        config_file: cli.zenoh_config.clone(),
+    };
+    config
+        .validate()
+        .map_err(|(key, reason)| anyhow::anyhow!("zenoh {key}: {reason}"))?;
+    let session = config.open().await?;
+    let code = match cli.command {
+        Command::Status => {
+            let status = query_status(&session, &site, WireFormat::Json).await?;
+            println!("{}", serde_json::to_string_pretty(&status)?);
+            0
+        }
+        Command::Tracks => {
+            let tracks = query_tracks(&session, &site, WireFormat::Json).await?;
+            println!("{}", serde_json::to_string_pretty(&tracks)?);
+            0
+        }
+        Command::Watch {
+            duration,
+            skip,
+            max_ospa,
+        } => watch(&session, &site, duration, skip, max_ospa).await?,
+        Command::WaitTracks { timeout } => {
+            let observer = Observer::start(&session, &site).await?;
+            let began = Instant::now();
+            loop {
+                if observer.latest_tracks().is_some() {
+                    println!(
+                        "tracks flowing after {:.2} s",
+                        began.elapsed().as_secs_f64()
+                    );
+                    break 0;
+                }
+                if began.elapsed().as_secs_f64() > timeout {
+                    println!("no track set within {timeout} s");
+                    break 1;
+                }
+                tokio::time::sleep(Duration::from_millis(100)).await;
+            }
+        }
+        Command::Ids { duration } => {
+            let observer = Observer::start(&session, &site).await?;
+            tokio::time::sleep(Duration::from_secs_f64(duration)).await;
+            let ids = identities(&observer.snapshot());
+            println!("{}", serde_json::to_string(&ids)?);
+            i32::from(ids.is_empty())
+        }
+        Command::Rogue {
+            victim,
+            duration,
+            rate,
+        } => {
+            let victim = SensorId::new(victim)?;
+            let report = run_rogue(
+                &session,
+                &site,
+                &victim,
+                Duration::from_secs_f64(duration),
+                rate,
+            )
+            .await?;
+            println!(
+                "rogue sent {} garbage, {} invalid, {} unknown-sensor messages",
+                report.garbage, report.invalid, report.unknown
+            );
+            0
+        }
+    };
+    let _ = session.close().await;
+    std::process::exit(code);
+}
+
+async fn watch(
+    session: &zenoh::Session,
+    site: &Site,
+    duration: f64,
+    skip: f64,
+    max_ospa: Option<f64>,
+) -> anyhow::Result<i32> {
+    let observer = Observer::start(session, site).await?;
+    let began = fusion_server::clock::now();
+    tokio::time::sleep(Duration::from_secs_f64(duration)).await;
+    let observed = observer.snapshot();
+    let scores = observed.scores();
+    let status = query_status(session, site, WireFormat::Postcard).await;
+    println!(
+        "watched {duration} s: {} track sets, {} truth sets",
+        observed.tracks.len(),
+        observed.truth.len()
+    );
+    if let Ok(status) = &status {
+        for s in &status.sensors {
+            println!(
+                "sensor {} ({}): alive {} received {} processed {} late {} invalid {} lost {}",
+                s.sensor,
+                s.kind.name(),
+                s.alive,
+                s.received,
+                s.processed,
+                s.late,
+                s.invalid,
+                s.lost
+            );
+        }
+    }
+    match mean_ospa(&scores, began + skip) {
+        Some((ospa, n)) => {
+            println!("mean OSPA {ospa:.3} m over {n} track sets (c = 1 m, p = 1)");
+            Ok(match max_ospa {
+                Some(max) if ospa > max => {
+                    println!("FAIL: mean OSPA {ospa:.3} m exceeds {max} m");
+                    1
+                }
+                _ => 0,
+            })
+        }
+        None => {
+            println!("FAIL: no track set could be scored (no tracks or no truth)");
+            Ok(1)
+        }
+    }
+}
+
+/// For each true object, the track ids seen within 0.5 m of it, with how often.
+fn identities(observed: &checker::Observed) -> BTreeMap<u64, BTreeMap<u64, usize>> {
+    let mut ids: BTreeMap<u64, BTreeMap<u64, usize>> = BTreeMap::new();
+    for set in &observed.tracks {
+        let Some((_, truth)) = observed.truth.iter().min_by(|a, b| {
+            (a.1.stamp - set.stamp)
+                .abs()
+                .total_cmp(&(b.1.stamp - set.stamp).abs())
+        }) else {
+            continue;
+        };
+        if (truth.stamp - set.stamp).abs() > 0.05 {
+            continue;
+        }
+        let mut used = BTreeSet::new();
+        for object in &truth.objects {
+            let nearest = set
+                .tracks
+                .iter()
+                .filter(|t| !used.contains(&t.id))
+                .map(|t| {
+                    let d: f64 = (0..3)
+                        .map(|i| (t.position[i] - object.position[i]).powi(2))
+                        .sum();
+                    (d.sqrt(), t.id)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some((_, id)) = nearest.filter(|(d, _)| *d < 0.5) {
+                used.insert(id);
+                *ids.entry(object.id).or_default().entry(id).or_default() += 1;
+            }
+        }
+    }
+    ids
+}

@@ -1,0 +1,71 @@
+//! Configuration: the example file holds the defaults, environment variables override keys,
+//! and a bad value stops the server with an error that names the key.
+
+use std::io::Write;
+use std::path::Path;
+
+use fusion_server::config::ServerConfig;
+
+fn example() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/fusion.example.toml"))
+}
+
+fn write_toml(text: &str) -> tempfile::NamedTempFile {
+    let mut file = tempfile::Builder::new().suffix(".toml").tempfile().unwrap();
+    file.write_all(text.as_bytes()).unwrap();
+    file
+}
+
+#[test]
+fn the_example_file_is_valid_and_holds_the_defaults() {
+    let loaded = ServerConfig::load(Some(example())).unwrap();
+    let defaults = ServerConfig::default();
+    assert_eq!(
+        format!("{:?}", loaded.filter),
+        format!("{:?}", defaults.filter)
+    );
+    assert_eq!(
+        format!("{:?}", loaded.tracks),
+        format!("{:?}", defaults.tracks)
+    );
+    assert_eq!(
+        format!("{:?}", loaded.ingest),
+        format!("{:?}", defaults.ingest)
+    );
+    assert_eq!(loaded.zenoh.listen, vec!["tcp/127.0.0.1:7447".to_string()]);
+    assert_eq!(loaded.site.name, "default");
+}
+
+#[test]
+fn bad_values_name_their_key() {
+    let cases = [
+        (
+            "[filter]\nsurvival_probability = 1.5\n",
+            "filter.survival_probability",
+        ),
+        ("[filter]\nmotion = \"teleport\"\n", "filter.motion"),
+        ("[zenoh]\nmode = \"router\"\n", "zenoh.mode"),
+        ("[zenoh]\nconnect = [\"localhost\"]\n", "zenoh.connect"),
+        ("[site]\nname = \"a/b\"\n", "site.name"),
+        ("[tracks]\nconfirm_hits = 9\n", "tracks.confirm_hits"),
+        ("[ingest]\nmax_future_s = -1\n", "ingest.max_future_s"),
+    ];
+    for (text, key) in cases {
+        let file = write_toml(text);
+        let error = ServerConfig::load(Some(file.path()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains(key),
+            "{text:?} gave {error:?}, which does not name {key}"
+        );
+    }
+    let file = write_toml("[filter]\nmax_componentz = 3\n");
+    let error = ServerConfig::load(Some(file.path()))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("max_componentz"),
+        "a misspelt key is named: {error}"
+    );
+}
