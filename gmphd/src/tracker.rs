@@ -175,7 +175,8 @@ impl LabelledTracker {
     fn relabel(&mut self, t: f64, before_reduction: &GaussianMixture) -> Result<(), TrackerError> {
         let mut mixture = self.filter.intensity().clone();
         let estimates = self.extractor.extract(&mixture)?;
-        let inherited = inherited_label_sets(before_reduction, &estimates, self.config.merge_threshold)?;
+        let inherited =
+            inherited_label_sets(before_reduction, &estimates, self.config.merge_threshold)?;
         let motion = self.filter.motion();
         let dt = (t - self.previous_time).max(0.0);
         let position = |x: &DVector<f64>| DVector::from_column_slice(motion.position(x).as_slice());
