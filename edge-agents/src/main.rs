@@ -1,1 +1,84 @@
-fn main() {}
+//! `edge-agent`: one sensor (or a simulation of several) on the fusion service's wire.
+//!
+//! Each subcommand turns its input into a source of frames ([`run::EventSource`]); [`launch::launch`] then
+//! publishes them over Zenoh (descriptor, liveliness token, one `MeasurementSet` per frame) and/or writes them
+//! as replay lines. See README.md for every subcommand with an example.
+
+mod camera;
+mod camera_tracker;
+mod cli;
+mod descriptor;
+mod emit;
+mod error;
+mod launch;
+mod lidar;
+mod log_limit;
+mod mic;
+mod output;
+mod pacing;
+mod publish;
+mod run;
+mod settings;
+mod shutdown;
+mod sim;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use tracing_subscriber::EnvFilter;
+
+use crate::cli::{Cli, Command, CommonArgs, TimingArgs};
+use crate::error::AgentError;
+use crate::launch::{launch, Prepared};
+use crate::settings::AgentSettings;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run_command(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) if error.is_broken_pipe() => ExitCode::SUCCESS,
+        Err(error) => {
+            // Logging may not be set up yet (a bad --config), so the final word goes straight to stderr.
+            eprintln!("edge-agent: error: {error}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Resolves settings, prepares the subcommand's source (reading and checking every input before anything
+/// goes on the wire) and runs it.
+fn run_command(command: Command) -> Result<(), AgentError> {
+    let (common, timing) = shared_args(&command);
+    let settings = AgentSettings::resolve(common)?;
+    init_logging(&settings.log.level);
+    let prepared: Prepared = match &command {
+        Command::Sim(c) => sim::prepare_sim(c)?,
+        Command::Camera(c) => camera::prepare_camera(c)?,
+        Command::MicPair(c) => mic::prepare_mic_pair(c)?,
+        Command::Lidar(c) => lidar::prepare_lidar(c)?,
+    };
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(AgentError::Runtime)?;
+    runtime.block_on(launch(prepared, common, &settings, timing.speed))
+}
+
+/// The flags every subcommand shares.
+fn shared_args(command: &Command) -> (&CommonArgs, &TimingArgs) {
+    match command {
+        Command::Sim(c) => (&c.common, &c.timing),
+        Command::Camera(c) => (&c.common, &c.timing),
+        Command::MicPair(c) => (&c.common, &c.timing),
+        Command::Lidar(c) => (&c.common, &c.timing),
+    }
+}
+
+/// Tracing to stderr (stdout may carry replay lines); `RUST_LOG` overrides the configured level.
+fn init_logging(level: &str) {
+    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(level));
+    tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .init();
+}

@@ -1,0 +1,231 @@
+//! The command line: one subcommand per sensor kind plus `sim`, and the flags they share.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use protocol::{SensorId, Site};
+
+/// Edge agent of the fusion service: turns one sensor's data (or a simulation) into protocol measurement sets,
+/// published over Zenoh and/or written as a replay file.
+#[derive(Debug, Parser)]
+#[command(name = "edge-agent", version, about)]
+pub struct Cli {
+    /// What to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate the sensors of a scenario (and optionally its truth) in real time or as fast as possible.
+    Sim(SimCommand),
+    /// A camera: image frames or MOT detections → single-view 2-D GM-PHD tracker → pixel estimates.
+    Camera(CameraCommand),
+    /// A microphone pair: stereo audio → GCC-PHAT time differences of arrival.
+    #[command(name = "mic-pair")]
+    MicPair(MicPairCommand),
+    /// A LIDAR: point-cloud scans → ground removal and clustering → [range, azimuth, elevation].
+    Lidar(LidarCommand),
+}
+
+/// Flags every subcommand has: where the data goes and how to join Zenoh.
+#[derive(Debug, Args)]
+pub struct CommonArgs {
+    /// The deployment (`fusion/<site>/...`); default `default`, or the descriptor's / scenario's site.
+    #[arg(long, value_parser = parse_site)]
+    pub site: Option<Site>,
+    /// TOML file with a `[zenoh]` (and optional `[log]`) section; `AGENT__ZENOH__MODE` etc. override it,
+    /// and the flags below override both.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Zenoh mode: `peer` or `client` (a client needs a router in `--connect`).
+    #[arg(long, value_name = "peer|client")]
+    pub mode: Option<String>,
+    /// Zenoh endpoint to connect to, e.g. `tcp/127.0.0.1:7447` (repeatable).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub connect: Vec<String>,
+    /// Zenoh endpoint to listen on, e.g. `tcp/0.0.0.0:7448` (repeatable).
+    #[arg(long, value_name = "ENDPOINT")]
+    pub listen: Vec<String>,
+    /// Write replay lines (JSON Lines of PROTOCOL.md) to this file, or `-` for stdout, instead of publishing.
+    #[arg(long, value_name = "FILE.jsonl|-")]
+    pub output: Option<PathBuf>,
+    /// Publish over Zenoh as well when `--output` is given.
+    #[arg(long)]
+    pub publish: bool,
+    /// Publish JSON payloads instead of postcard.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// When frames are stamped and published.
+#[derive(Debug, Args)]
+pub struct TimingArgs {
+    /// Unix time (s) of the first frame / scenario time 0; default: the scenario's `start`, else the wall clock
+    /// at launch. Processes given the same `--start` agree on every stamp.
+    #[arg(long, value_name = "UNIX_SECONDS")]
+    pub start: Option<f64>,
+    /// Playback speed when publishing: 1 = real time, 2 = twice as fast. Ignored with `--output` alone,
+    /// which writes as fast as possible.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+}
+
+/// Which scenario to simulate and for how long.
+#[derive(Debug, Args)]
+pub struct ScenarioArgs {
+    /// Scenario file (TOML, see simulator/SCENARIOS.md); default: the built-in room.
+    #[arg(long, value_name = "FILE")]
+    pub scenario: Option<PathBuf>,
+    /// Seed of the simulation's random streams.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Seconds of scenario to run; default: the scenario's `duration_s`.
+    #[arg(long, value_name = "SECONDS")]
+    pub duration: Option<f64>,
+}
+
+/// `edge-agent sim`.
+#[derive(Debug, Args)]
+pub struct SimCommand {
+    /// Output and Zenoh flags.
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Stamping and pacing.
+    #[command(flatten)]
+    pub timing: TimingArgs,
+    /// The scenario.
+    #[command(flatten)]
+    pub scenario: ScenarioArgs,
+    /// A sensor of the scenario to simulate (repeatable); default: all of them.
+    #[arg(long, value_name = "NAME", value_parser = parse_sensor)]
+    pub sensor: Vec<SensorId>,
+    /// Also publish (or write) the scenario's truth on `fusion/<site>/truth`.
+    #[arg(long)]
+    pub truth: bool,
+}
+
+/// Simulating one sensor instead of reading its data (`--simulate`).
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Simulate this sensor from `--scenario` instead of reading data (same code path as `sim --sensor`).
+    #[arg(long)]
+    pub simulate: bool,
+    /// The scenario sensor to simulate; default: the scenario's first sensor of this subcommand's kind.
+    #[arg(long, value_name = "NAME", value_parser = parse_sensor, requires = "simulate")]
+    pub sensor: Option<SensorId>,
+    /// The scenario.
+    #[command(flatten)]
+    pub scenario: ScenarioArgs,
+}
+
+/// `edge-agent camera`.
+#[derive(Debug, Args)]
+pub struct CameraCommand {
+    /// Output and Zenoh flags.
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Stamping and pacing.
+    #[command(flatten)]
+    pub timing: TimingArgs,
+    /// `--simulate` instead of real data.
+    #[command(flatten)]
+    pub simulate: SimulateArgs,
+    /// The camera's SensorDescriptor (TOML or JSON by extension; `site`/`version` may be omitted).
+    #[arg(long, value_name = "FILE")]
+    pub descriptor: Option<PathBuf>,
+    /// Directory of PNG/JPEG frames (sorted by name) run through background subtraction and blobs.
+    #[arg(long, value_name = "DIR", conflicts_with = "detections")]
+    pub frames: Option<PathBuf>,
+    /// MOT Challenge detections (`det.txt`), one head point (top-centre) per box.
+    #[arg(long, value_name = "FILE")]
+    pub detections: Option<PathBuf>,
+    /// Frame rate; frame i is stamped `start + i / fps`.
+    #[arg(long, value_name = "F", conflicts_with = "stamps")]
+    pub fps: Option<f64>,
+    /// Stamps file (one per frame, for `--frames`): stamps as they are, or shifted so the first is `--start`.
+    #[arg(long, value_name = "FILE")]
+    pub stamps: Option<PathBuf>,
+    /// Camera front-end configuration (TOML of `frontends::camera::CameraConfig`).
+    #[arg(long, value_name = "FILE")]
+    pub frontend_config: Option<PathBuf>,
+    /// Publish the raw head points (no single-view tracker, `covariances` null).
+    #[arg(long)]
+    pub raw: bool,
+    /// Tracker: white-noise acceleration of a head on the image plane, px/s².
+    #[arg(long, default_value_t = 200.0, value_name = "PX_PER_S2")]
+    pub accel_noise: f64,
+    /// Tracker: expected number of new objects per frame over the whole image.
+    #[arg(long, default_value_t = 0.05)]
+    pub birth_rate: f64,
+    /// Tracker: estimates are components (labels) with at least this weight.
+    #[arg(long, default_value_t = 0.5)]
+    pub extraction_threshold: f64,
+}
+
+/// `edge-agent mic-pair`.
+#[derive(Debug, Args)]
+pub struct MicPairCommand {
+    /// Output and Zenoh flags.
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Stamping and pacing (`--start` is the capture time of the first audio sample).
+    #[command(flatten)]
+    pub timing: TimingArgs,
+    /// `--simulate` instead of real data.
+    #[command(flatten)]
+    pub simulate: SimulateArgs,
+    /// The pair's SensorDescriptor (TOML or JSON; `model.kind = "mic_pair"`).
+    #[arg(long, value_name = "FILE")]
+    pub descriptor: Option<PathBuf>,
+    /// Stereo WAV file: channel 1 is microphone 1 of the descriptor, channel 2 microphone 2.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["left", "right"])]
+    pub wav: Option<PathBuf>,
+    /// Mono WAV of microphone 1 (with `--right`).
+    #[arg(long, value_name = "A.wav", requires = "right")]
+    pub left: Option<PathBuf>,
+    /// Mono WAV of microphone 2 (with `--left`).
+    #[arg(long, value_name = "B.wav", requires = "left")]
+    pub right: Option<PathBuf>,
+    /// Mic front-end configuration (TOML of `frontends::mic::MicPairConfig`); default: its documented
+    /// defaults with the descriptor's baseline and speed of sound.
+    #[arg(long, value_name = "FILE")]
+    pub frontend_config: Option<PathBuf>,
+}
+
+/// `edge-agent lidar`.
+#[derive(Debug, Args)]
+pub struct LidarCommand {
+    /// Output and Zenoh flags.
+    #[command(flatten)]
+    pub common: CommonArgs,
+    /// Stamping and pacing (`--start` is the stamp of the first scan).
+    #[command(flatten)]
+    pub timing: TimingArgs,
+    /// `--simulate` instead of real data.
+    #[command(flatten)]
+    pub simulate: SimulateArgs,
+    /// The LIDAR's SensorDescriptor (TOML or JSON; `model.kind = "lidar"`).
+    #[arg(long, value_name = "FILE")]
+    pub descriptor: Option<PathBuf>,
+    /// Directory of `.pcd` or KITTI `.bin` scans, taken in file-name order.
+    #[arg(long, value_name = "DIR")]
+    pub scans: Option<PathBuf>,
+    /// Scans per second; scan i is stamped `start + i / rate`.
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// LIDAR front-end configuration (TOML of the frontends LIDAR pipeline's configuration).
+    #[arg(long, value_name = "FILE")]
+    pub frontend_config: Option<PathBuf>,
+}
+
+/// Parses `--site` with the protocol's chunk rules.
+fn parse_site(text: &str) -> Result<Site, String> {
+    Site::new(text).map_err(|e| e.to_string())
+}
+
+/// Parses `--sensor` with the protocol's chunk rules.
+fn parse_sensor(text: &str) -> Result<SensorId, String> {
+    SensorId::new(text).map_err(|e| e.to_string())
+}

@@ -1,0 +1,204 @@
+//! Where produced data goes: numbering each sensor's sets, checking them, and handing them to the replay
+//! writer and/or the Zenoh publishers.
+
+use std::time::Duration;
+
+use protocol::{MeasurementSet, ReplayLine, SensorDescriptor, Site, TruthSet, WireFormat};
+use transport::ZenohConfig;
+
+use crate::descriptor::validate_descriptor;
+use crate::error::AgentError;
+use crate::log_limit::LogLimiter;
+use crate::output::ReplayWriter;
+use crate::publish::{await_subscribers, Publishing, SensorPublisher, TruthPublisher};
+use crate::shutdown::Shutdown;
+
+/// How long a publishing agent waits at start for subscribers to its sets (see `await_subscribers`).
+const SUBSCRIBER_PATIENCE: Duration = Duration::from_secs(2);
+
+/// One frame's measurements as a source produces them; the emitter adds sensor name, version and `seq`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Capture time, seconds since the Unix epoch.
+    pub stamp: f64,
+    /// One vector per measurement, of the sensor kind's length.
+    pub measurements: Vec<Vec<f64>>,
+    /// `None`, or one covariance (rows) per measurement replacing the descriptor's noise.
+    pub covariances: Option<Vec<Vec<Vec<f64>>>>,
+}
+
+/// Where a run's output goes: a replay file, Zenoh, or both.
+pub struct OutputPlan {
+    /// The replay writer of `--output`.
+    pub replay: Option<ReplayWriter>,
+    /// The Zenoh settings and payload form, when publishing.
+    pub zenoh: Option<(ZenohConfig, WireFormat)>,
+}
+
+/// How many sets one sensor produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensorCount {
+    /// The sensor.
+    pub sensor: String,
+    /// Sets emitted (written and/or published).
+    pub sets: u64,
+    /// Sets that failed validation and were dropped (each leaves a `seq` gap).
+    pub invalid: u64,
+}
+
+/// Numbers, checks and delivers the sets of one or more sensors (and truth sets).
+pub struct Emitter {
+    streams: Vec<Stream>,
+    replay: Option<ReplayWriter>,
+    publishing: Option<Publishing>,
+    truth: Option<TruthPublisher>,
+    truth_sets: u64,
+    invalid_log: LogLimiter,
+}
+
+/// One sensor's numbering and publisher.
+struct Stream {
+    descriptor: SensorDescriptor,
+    next_seq: u64,
+    publisher: Option<SensorPublisher>,
+    count: SensorCount,
+}
+
+impl Emitter {
+    /// Validates every descriptor, opens Zenoh when publishing (declaring each sensor and, when `truth_site`
+    /// is given, the truth publisher) and writes the descriptor lines to the replay output.
+    /// Returns `None` when shutdown was requested while waiting for the Zenoh router.
+    pub async fn start(
+        descriptors: Vec<SensorDescriptor>,
+        truth_site: Option<&Site>,
+        plan: OutputPlan,
+        shutdown: &Shutdown,
+    ) -> Result<Option<Self>, AgentError> {
+        for descriptor in &descriptors {
+            validate_descriptor(descriptor)?;
+        }
+        let OutputPlan { mut replay, zenoh } = plan;
+        let publishing = match zenoh {
+            Some((config, format)) => match Publishing::open(&config, format, shutdown).await? {
+                Some(publishing) => Some(publishing),
+                None => return Ok(None),
+            },
+            None => None,
+        };
+        let mut streams = Vec::with_capacity(descriptors.len());
+        for descriptor in descriptors {
+            let publisher = match &publishing {
+                Some(publishing) => Some(publishing.sensor(&descriptor).await?),
+                None => None,
+            };
+            if let Some(replay) = &mut replay {
+                replay.write(&ReplayLine::Descriptor(descriptor.clone()))?;
+            }
+            streams.push(Stream {
+                count: SensorCount {
+                    sensor: descriptor.sensor.to_string(),
+                    sets: 0,
+                    invalid: 0,
+                },
+                descriptor,
+                next_seq: 0,
+                publisher,
+            });
+        }
+        let publishers: Vec<&SensorPublisher> = streams
+            .iter()
+            .filter_map(|s| s.publisher.as_ref())
+            .collect();
+        if !publishers.is_empty() && !await_subscribers(&publishers, SUBSCRIBER_PATIENCE).await {
+            tracing::info!(
+                "no subscriber yet for every sensor (is the fusion server up?); publishing anyway"
+            );
+        }
+        let truth = match (&publishing, truth_site) {
+            (Some(publishing), Some(site)) => Some(publishing.truth(site).await?),
+            _ => None,
+        };
+        Ok(Some(Self {
+            streams,
+            replay,
+            publishing,
+            truth,
+            truth_sets: 0,
+            invalid_log: LogLimiter::new(Duration::from_secs(5)),
+        }))
+    }
+
+    /// Emits the next set of sensor `stream` (its index in the descriptors given to [`Emitter::start`]).
+    ///
+    /// The set gets the sensor's next `seq`. A set that fails validation against the descriptor is logged and
+    /// dropped, its `seq` consumed, so that the gap tells the server a set was lost. Only a failure to write
+    /// the replay output is an error; publishing failures are logged inside the publisher.
+    pub async fn emit_set(&mut self, stream: usize, frame: Frame) -> Result<(), AgentError> {
+        let Some(entry) = self.streams.get_mut(stream) else {
+            return Err(AgentError::Usage(format!("no sensor stream #{stream}")));
+        };
+        let set = MeasurementSet {
+            version: protocol::PROTOCOL_VERSION,
+            sensor: entry.descriptor.sensor.clone(),
+            seq: entry.next_seq,
+            stamp: frame.stamp,
+            measurements: frame.measurements,
+            covariances: frame.covariances,
+        };
+        entry.next_seq += 1;
+        if let Err(error) = set.validate_against(&entry.descriptor) {
+            entry.count.invalid += 1;
+            if let Some(suppressed) = self.invalid_log.allow() {
+                tracing::error!(sensor = %set.sensor, seq = set.seq, %error, suppressed, "dropping an invalid set");
+            }
+            return Ok(());
+        }
+        if let Some(publisher) = &mut entry.publisher {
+            publisher.put_set(&set).await;
+        }
+        entry.count.sets += 1;
+        if let Some(replay) = &mut self.replay {
+            replay.write(&ReplayLine::Measurements(set))?;
+        }
+        Ok(())
+    }
+
+    /// Emits one truth set (published on `fusion/<site>/truth` and/or written as a `truth` line).
+    pub async fn emit_truth(&mut self, truth: TruthSet) -> Result<(), AgentError> {
+        if let Err(error) = truth.validate() {
+            tracing::error!(stamp = truth.stamp, %error, "dropping an invalid truth set");
+            return Ok(());
+        }
+        if let Some(publisher) = &mut self.truth {
+            publisher.put_truth(&truth).await;
+        }
+        self.truth_sets += 1;
+        if let Some(replay) = &mut self.replay {
+            replay.write(&ReplayLine::Truth(truth))?;
+        }
+        Ok(())
+    }
+
+    /// Flushes the replay output, withdraws every sensor and closes the session; returns the counts.
+    pub async fn finish(mut self) -> Result<(Vec<SensorCount>, u64), AgentError> {
+        let counts = self.streams.iter().map(|s| s.count.clone()).collect();
+        let replay_result = match &mut self.replay {
+            Some(replay) => replay.finish().inspect(|()| {
+                tracing::info!(
+                    lines = replay.lines(),
+                    target = replay.target(),
+                    "replay output written"
+                );
+            }),
+            None => Ok(()),
+        };
+        // Publishers and tokens go before the session closes, so they are undeclared cleanly.
+        self.streams.clear();
+        self.truth = None;
+        if let Some(publishing) = self.publishing.take() {
+            publishing.close().await;
+        }
+        replay_result?;
+        Ok((counts, self.truth_sets))
+    }
+}

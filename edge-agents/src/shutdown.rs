@@ -1,0 +1,65 @@
+//! Graceful shutdown on Ctrl-C or SIGTERM: the run loop stops between two frames, the liveliness tokens are
+//! undeclared and the session is closed, so the server sees the sensor leave at once.
+
+use tokio::sync::watch;
+
+/// A handle on the process-wide "please stop" flag; cheap to clone.
+#[derive(Debug, Clone)]
+pub struct Shutdown {
+    requested: watch::Receiver<bool>,
+}
+
+impl Shutdown {
+    /// Starts listening for Ctrl-C and SIGTERM (needs a running Tokio runtime).
+    pub fn listen() -> Self {
+        let (sender, requested) = watch::channel(false);
+        tokio::spawn(async move {
+            wait_for_signal().await;
+            tracing::info!("shutdown requested");
+            // Nobody listening any more just means the run already ended.
+            let _ = sender.send(true);
+        });
+        Self { requested }
+    }
+
+    /// True once a signal has arrived.
+    pub fn is_requested(&self) -> bool {
+        *self.requested.borrow()
+    }
+
+    /// Resolves when a signal arrives (never, if none does).
+    pub async fn requested(&mut self) {
+        if self.requested.wait_for(|stop| *stop).await.is_err() {
+            // The listener task is gone without a signal: nothing will ever ask us to stop.
+            std::future::pending::<()>().await;
+        }
+    }
+}
+
+/// Waits for Ctrl-C, or SIGTERM on Unix (what `docker stop` sends).
+async fn wait_for_signal() {
+    let ctrl_c = async {
+        if let Err(e) = tokio::signal::ctrl_c().await {
+            tracing::warn!(error = %e, "cannot listen for Ctrl-C");
+            std::future::pending::<()>().await;
+        }
+    };
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{signal, SignalKind};
+        match signal(SignalKind::terminate()) {
+            Ok(mut term) => {
+                tokio::select! {
+                    _ = ctrl_c => {}
+                    _ = term.recv() => {}
+                }
+            }
+            Err(e) => {
+                tracing::warn!(error = %e, "cannot listen for SIGTERM");
+                ctrl_c.await;
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    ctrl_c.await;
+}
