@@ -16,6 +16,7 @@ use crate::error::AgentError;
 use crate::launch::Prepared;
 use crate::pacing::wall_clock;
 use crate::run::{Event, EventSource};
+use crate::settings::read_frontend_config;
 use crate::sim::prepare_simulated_sensor;
 
 /// Prepares `edge-agent camera`.
@@ -81,13 +82,8 @@ fn frontend_config(path: Option<&Path>) -> Result<CameraConfig, AgentError> {
     let Some(path) = path else {
         return Ok(CameraConfig::default());
     };
-    let error = |reason: String| AgentError::FrontendConfig {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
-    let config: CameraConfig = toml::from_str(&text).map_err(|e| error(e.to_string()))?;
-    config.validate().map_err(|e| error(e.to_string()))?;
+    let config: CameraConfig = read_frontend_config(path)?;
+    config.validate()?;
     Ok(config)
 }
 

@@ -18,6 +18,7 @@ use crate::error::AgentError;
 use crate::launch::Prepared;
 use crate::pacing::wall_clock;
 use crate::run::{Event, EventSource};
+use crate::settings::read_frontend_config;
 use crate::sim::prepare_simulated_sensor;
 
 /// Prepares `edge-agent lidar`.
@@ -81,15 +82,10 @@ pub fn prepare_lidar(command: &LidarCommand) -> Result<Prepared, AgentError> {
 
 /// The front end's configuration: the TOML file, or its documented defaults.
 fn frontend_config(path: Option<&Path>) -> Result<LidarConfig, AgentError> {
-    let Some(path) = path else {
-        return Ok(LidarConfig::default());
-    };
-    let error = |reason: String| AgentError::FrontendConfig {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
-    toml::from_str(&text).map_err(|e| error(e.to_string()))
+    match path {
+        Some(path) => read_frontend_config(path),
+        None => Ok(LidarConfig::default()),
+    }
 }
 
 /// The `.pcd` and `.bin` files of `dir` (any letter case), sorted by file name; an error when there are none.
@@ -124,6 +120,7 @@ enum ScanFormat {
     KittiBin,
 }
 
+/// The format of a scan file, by its extension; `None` for any other file.
 fn scan_format(path: &Path) -> Option<ScanFormat> {
     let extension = path.extension()?.to_str()?.to_ascii_lowercase();
     match extension.as_str() {

@@ -32,6 +32,7 @@ use crate::error::AgentError;
 use crate::launch::{launch, Prepared};
 use crate::settings::AgentSettings;
 
+/// Runs one subcommand; exit code 0 on success (or a closed output pipe), 1 with a message on stderr otherwise.
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run_command(cli.command) {

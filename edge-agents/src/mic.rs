@@ -16,6 +16,7 @@ use crate::error::AgentError;
 use crate::launch::Prepared;
 use crate::pacing::wall_clock;
 use crate::run::{Event, EventSource};
+use crate::settings::read_frontend_config;
 use crate::sim::prepare_simulated_sensor;
 
 /// Largest relative difference between the front end's `mic_distance` and the descriptor's baseline that
@@ -101,12 +102,7 @@ fn frontend_config(path: Option<&Path>, model: &MicPairModel) -> Result<MicPairC
         config.speed_of_sound = model.speed_of_sound;
         return Ok(config);
     };
-    let error = |reason: String| AgentError::FrontendConfig {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
-    let config: MicPairConfig = toml::from_str(&text).map_err(|e| error(e.to_string()))?;
+    let config: MicPairConfig = read_frontend_config(path)?;
     if (config.mic_distance - baseline).abs() > BASELINE_TOLERANCE * baseline {
         tracing::warn!(
             mic_distance = config.mic_distance,

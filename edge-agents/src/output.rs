@@ -73,6 +73,7 @@ impl ReplayWriter {
         &self.target
     }
 
+    /// The error for a failed write or flush of this target.
     fn error(&self, source: std::io::Error) -> AgentError {
         AgentError::Output {
             target: self.target.clone(),

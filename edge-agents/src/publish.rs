@@ -235,6 +235,7 @@ struct TypedPublisher {
 }
 
 impl TypedPublisher {
+    /// Declares the publisher on `key`, with the encoding of `format` and congestion control `Block`.
     async fn declare(
         session: &Session,
         key: String,
@@ -255,14 +256,15 @@ impl TypedPublisher {
         })
     }
 
+    /// Encodes and puts `message`; a failure is logged (rate-limited), never returned.
     async fn put<T: Serialize>(&mut self, message: &T) {
-        let key = self.publisher.key_expr().to_string();
         let result = match protocol::encode(message, self.format) {
             Ok(bytes) => self.publisher.put(bytes).await.map_err(|e| e.to_string()),
             Err(e) => Err(format!("encoding failed: {e}")),
         };
         if let Err(error) = result {
             if let Some(suppressed) = self.failures.allow() {
+                let key = self.publisher.key_expr();
                 tracing::warn!(what = self.what, %key, %error, suppressed, "put failed; going on");
             }
         }
@@ -276,6 +278,7 @@ struct DescriptorForms {
 }
 
 impl DescriptorForms {
+    /// Encodes `descriptor` in both forms.
     fn new(descriptor: &SensorDescriptor) -> Result<Self, AgentError> {
         let invalid = |source| AgentError::InvalidDescriptor {
             sensor: descriptor.sensor.to_string(),
@@ -308,6 +311,7 @@ impl DescriptorForms {
     }
 }
 
+/// The error for a declaration Zenoh refused.
 fn declare_error(what: &str, error: zenoh::Error) -> AgentError {
     AgentError::Declare {
         what: what.to_owned(),

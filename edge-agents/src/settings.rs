@@ -1,11 +1,14 @@
 //! Agent settings: the `[zenoh]` and `[log]` sections of a `--config` TOML file, overridden by
 //! `AGENT__SECTION__KEY` environment variables, overridden by the command-line flags.
 //!
+//! Also here: reading a front end's own TOML configuration (`--frontend-config`).
+//!
 //! Read with the `config` crate exactly like the fusion server's configuration (prefix `AGENT` instead of
 //! `FUSION`), so one `[zenoh]` section can be shared by both.
 
 use std::path::Path;
 
+use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use transport::ZenohConfig;
 
@@ -79,4 +82,14 @@ impl AgentSettings {
             .map_err(|(key, reason)| AgentError::invalid(format!("zenoh.{key}"), reason))?;
         Ok(settings)
     }
+}
+
+/// Reads a front end's TOML configuration file (`--frontend-config`) into its configuration type.
+pub fn read_frontend_config<T: DeserializeOwned>(path: &Path) -> Result<T, AgentError> {
+    let error = |reason: String| AgentError::FrontendConfig {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
+    toml::from_str(&text).map_err(|e| error(e.to_string()))
 }

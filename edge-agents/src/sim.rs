@@ -143,7 +143,7 @@ struct SimSource {
     sensors: Vec<usize>,
     /// Instants of each queue: 0 is truth, 1 + i is stream i.
     counts: Vec<u64>,
-    pending: BinaryHeap<Reverse<Instant>>,
+    pending: BinaryHeap<Reverse<PendingInstant>>,
 }
 
 impl SimSource {
@@ -183,7 +183,7 @@ impl SimSource {
             0 => scenario.truth_time(k),
             q => scenario.sensors[self.sensors[q - 1]].frame_time(k),
         };
-        self.pending.push(Reverse(Instant { t, queue, k }));
+        self.pending.push(Reverse(PendingInstant { t, queue, k }));
     }
 }
 
@@ -215,7 +215,7 @@ impl EventSource for SimSource {
 
 /// One pending instant of the merge.
 #[derive(Debug, Clone, Copy)]
-struct Instant {
+struct PendingInstant {
     /// Scenario time; stamps are `start + t`, so ordering by `t` orders by stamp.
     t: f64,
     /// 0 for truth, 1 + stream index: the tie-break at equal times.
@@ -223,21 +223,21 @@ struct Instant {
     k: u64,
 }
 
-impl PartialEq for Instant {
+impl PartialEq for PendingInstant {
     fn eq(&self, other: &Self) -> bool {
         self.cmp(other) == Ordering::Equal
     }
 }
 
-impl Eq for Instant {}
+impl Eq for PendingInstant {}
 
-impl PartialOrd for Instant {
+impl PartialOrd for PendingInstant {
     fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
         Some(self.cmp(other))
     }
 }
 
-impl Ord for Instant {
+impl Ord for PendingInstant {
     fn cmp(&self, other: &Self) -> Ordering {
         self.t
             .total_cmp(&other.t)

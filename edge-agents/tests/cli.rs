@@ -91,6 +91,54 @@ fn bad_flags_fail_with_a_message() {
 }
 
 #[test]
+fn zenoh_settings_come_from_file_then_environment_then_flags() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let config = dir.path().join("agent.toml");
+    std::fs::write(&config, "[zenoh]\nmode = \"client\"\n").expect("write config");
+    let config = config.to_str().expect("utf-8 path");
+    let run = |env: Option<(&str, &str)>, extra: &[&str]| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_edge-agent"));
+        command.args([
+            "sim",
+            "--duration",
+            "0.1",
+            "--start",
+            START,
+            "--output",
+            "-",
+        ]);
+        command.args(extra);
+        if let Some((key, value)) = env {
+            command.env(key, value);
+        }
+        command.output().expect("the edge-agent binary runs")
+    };
+    // A client needs a router: the file alone is refused, naming the key.
+    let from_file = run(None, &["--config", config]);
+    assert!(!from_file.status.success());
+    assert!(String::from_utf8_lossy(&from_file.stderr).contains("zenoh.connect"));
+    // The environment adds the router ...
+    let with_env = run(
+        Some(("AGENT__ZENOH__CONNECT", "tcp/127.0.0.1:7447")),
+        &["--config", config],
+    );
+    assert!(
+        with_env.status.success(),
+        "{}",
+        String::from_utf8_lossy(&with_env.stderr)
+    );
+    // ... or overrides the mode, and a flag overrides the environment.
+    let env_mode = run(Some(("AGENT__ZENOH__MODE", "router")), &[]);
+    assert!(String::from_utf8_lossy(&env_mode.stderr).contains("zenoh.mode"));
+    let flag_wins = run(Some(("AGENT__ZENOH__MODE", "router")), &["--mode", "peer"]);
+    assert!(
+        flag_wins.status.success(),
+        "{}",
+        String::from_utf8_lossy(&flag_wins.stderr)
+    );
+}
+
+#[test]
 fn invalid_descriptor_file_is_refused_with_a_clear_error() {
     let dir = tempfile::tempdir().expect("temp dir");
     let descriptor = dir.path().join("cam.toml");

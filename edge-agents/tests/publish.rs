@@ -112,12 +112,15 @@ async fn test_session(mode: &str, port: u16) -> Session {
     zenoh::open(config).await.expect("test session opens")
 }
 
-/// Receives sets until `count` arrived or the agent's stream ends; returns them in arrival order.
+/// A subscriber of the test session, samples queued in a channel.
+type SetSubscriber =
+    zenoh::pubsub::Subscriber<zenoh::handlers::FifoChannelHandler<zenoh::sample::Sample>>;
+
+/// Receives `count` sets, checking they arrive in the `expected` wire form; returns them in arrival order.
 async fn receive_sets(
-    subscriber: &zenoh::pubsub::Subscriber<
-        zenoh::handlers::FifoChannelHandler<zenoh::sample::Sample>,
-    >,
+    subscriber: &SetSubscriber,
     count: usize,
+    expected: WireFormat,
 ) -> Vec<MeasurementSet> {
     let mut sets = Vec::new();
     while sets.len() < count {
@@ -126,7 +129,7 @@ async fn receive_sets(
             .expect("sets keep arriving")
             .expect("subscriber open");
         let format = WireFormat::from_zenoh(sample.encoding()).expect("a protocol encoding");
-        assert_eq!(format, WireFormat::Postcard, "postcard is the default form");
+        assert_eq!(format, expected, "sets carry the agent's wire form");
         let set: MeasurementSet =
             protocol::decode(&sample.payload().to_bytes(), format).expect("a set decodes");
         set.validate().expect("a published set is valid");
@@ -206,7 +209,7 @@ async fn peer_agent_announces_serves_publishes_and_leaves_cleanly() {
     assert_eq!(as_json.sensor.as_str(), "cam1");
     as_json.validate().expect("the served descriptor is valid");
 
-    let received = receive_sets(&sets, 20).await;
+    let received = receive_sets(&sets, 20, WireFormat::Postcard).await;
     assert_consecutive(&received);
 
     // SIGTERM (what `docker stop` sends): the agent stops between frames, withdraws its token, exits 0.
@@ -228,10 +231,11 @@ async fn peer_agent_announces_serves_publishes_and_leaves_cleanly() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn client_survives_its_router_coming_late_and_going_away() {
+async fn json_client_survives_its_router_coming_late_and_going_away() {
     let port = free_port();
     let start = format!("{:.3}", now() + 1.0);
-    let args = sim_args("lidar", "client", port, &start, "12");
+    let mut args = sim_args("lidar", "client", port, &start, "12");
+    args.push("--json".into());
     let agent = Agent::spawn(&args);
     // The router comes up only after the agent has failed to reach it at least once.
     tokio::time::sleep(Duration::from_millis(1500)).await;
@@ -241,7 +245,7 @@ async fn client_survives_its_router_coming_late_and_going_away() {
         .declare_subscriber(key)
         .await
         .expect("set subscriber");
-    let before = receive_sets(&sets, 5).await;
+    let before = receive_sets(&sets, 5, WireFormat::Json).await;
     assert_consecutive(&before);
     assert_eq!(
         before[0].seq, 0,
@@ -257,7 +261,7 @@ async fn client_survives_its_router_coming_late_and_going_away() {
         .declare_subscriber(key)
         .await
         .expect("set subscriber");
-    let after = receive_sets(&sets, 5).await;
+    let after = receive_sets(&sets, 5, WireFormat::Json).await;
     assert_consecutive(&after);
     let last_before = before.last().expect("sets").seq;
     assert!(after[0].seq > last_before, "seq goes on across the outage");
