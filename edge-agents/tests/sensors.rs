@@ -131,6 +131,33 @@ fn camera_frames_go_through_background_subtraction() {
         (first[0][0] - 75.0).abs() < 3.0 && (first[0][1] - 70.0).abs() < 3.0,
         "{first:?}"
     );
+
+    // A stamps file gives the frames' own stamps; with --start they are shifted so the first is there.
+    let stamps = dir.path().join("stamps.txt");
+    let lines: String = (0..26)
+        .map(|i| format!("{}\n", 500.0 + 0.05 * f64::from(i)))
+        .collect();
+    write(&stamps, &format!("# capture times\n{lines}"));
+    let with_stamps = |extra: &[&str]| {
+        let args = [
+            "camera",
+            "--descriptor",
+            path_str(&descriptor),
+            "--frames",
+            path_str(&frames),
+            "--stamps",
+            path_str(&stamps),
+            "--output",
+            "-",
+            "--raw",
+        ];
+        check_replay(&edge_agent_ok(&[&args[..], extra].concat()))
+    };
+    let recorded = with_stamps(&[]);
+    assert!((recorded.sets[0].stamp - 500.8).abs() < 1e-9);
+    let shifted = with_stamps(&["--start", START]);
+    assert!((shifted.sets[0].stamp - (1_763_700_000.0 + 0.8)).abs() < 1e-6);
+    assert_eq!(shifted.sets[0].measurements, recorded.sets[0].measurements);
 }
 
 /// A stereo 16 kHz WAV of white noise whose second channel lags the first by `lag` samples.
