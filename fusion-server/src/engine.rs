@@ -137,6 +137,7 @@ impl Engine {
             reason,
         };
         if descriptor.site != self.site {
+            self.rejected.invalid += 1;
             return Err(invalid(format!(
                 "site {} is not {}",
                 descriptor.site, self.site
