@@ -8,6 +8,7 @@ pub mod checkpoint;
 pub mod clock;
 pub mod config;
 pub mod engine;
+mod engine_thread;
 pub mod latency;
 pub mod limiter;
 pub mod plot;

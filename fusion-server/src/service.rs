@@ -6,7 +6,7 @@
 //! latest `TrackSet` at most `output.max_publish_hz` times per second.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -17,37 +17,10 @@ use zenoh::qos::CongestionControl;
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::Wait;
 
-use crate::checkpoint::{self, Checkpoint};
 use crate::clock;
 use crate::config::ServerConfig;
-use crate::engine::{Engine, Rejection};
-use crate::limiter::LogLimiter;
-
-/// What Zenoh callbacks hand to the engine thread.
-enum Inbound {
-    Set {
-        key_sensor: SensorId,
-        payload: Vec<u8>,
-        format: Result<WireFormat, String>,
-        arrived: f64,
-    },
-    Descriptor {
-        payload: Vec<u8>,
-        format: Result<WireFormat, String>,
-    },
-    Alive {
-        sensor: SensorId,
-        alive: bool,
-    },
-    Shutdown,
-}
-
-/// What queryables answer from.
-#[derive(Clone)]
-struct Snapshot {
-    tracks: TrackSet,
-    status: Status,
-}
+use crate::engine::Engine;
+use crate::engine_thread::{engine_loop, restore_checkpoint, Inbound, Snapshot};
 
 /// Runs the service until SIGINT or SIGTERM.
 pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
@@ -327,161 +300,4 @@ async fn wait_for_signal() {
     }
     #[cfg(not(unix))]
     let _ = ctrl_c.await;
-}
-
-fn restore_checkpoint(config: &ServerConfig, engine: &mut Engine, now: f64) {
-    let Some(path) = &config.checkpoint.path else {
-        return;
-    };
-    match checkpoint::load(path, &config.site.name, now, config.checkpoint.max_age_s) {
-        Ok(checkpoint) => match engine.restore(checkpoint.state) {
-            Ok(()) => {
-                tracing::info!(path = %path.display(), "filter state restored from checkpoint")
-            }
-            Err(e) => {
-                tracing::warn!(path = %path.display(), error = %e, "checkpoint rejected, starting empty")
-            }
-        },
-        Err(checkpoint::LoadError::Missing(_)) => {
-            tracing::info!(path = %path.display(), "no checkpoint yet, starting empty")
-        }
-        Err(e) => tracing::warn!(error = %e, "starting empty"),
-    }
-}
-
-fn save_checkpoint(config: &ServerConfig, engine: &Engine) {
-    let Some(path) = &config.checkpoint.path else {
-        return;
-    };
-    let checkpoint = Checkpoint {
-        saved_at: clock::now(),
-        site: config.site.name.clone(),
-        state: engine.checkpoint(),
-    };
-    if let Err(e) = checkpoint::save(path, &checkpoint) {
-        tracing::error!(path = %path.display(), error = %e, "writing the checkpoint failed");
-    }
-}
-
-/// The engine thread: admits what arrives, processes what is ready, refreshes the snapshot,
-/// hands track sets to the publisher and checkpoints, until told to shut down.
-fn engine_loop(
-    mut engine: Engine,
-    config: ServerConfig,
-    rx: Receiver<Inbound>,
-    snapshot: Arc<Mutex<Snapshot>>,
-    overflow: Arc<AtomicU64>,
-    tracks_tx: watch::Sender<Option<(TrackSet, f64)>>,
-    ask_tx: mpsc::UnboundedSender<SensorId>,
-) {
-    let mut limiter = LogLimiter::new(5.0);
-    let mut last_checkpoint = clock::now();
-    let mut reported_overflow = 0;
-    let mut shutting_down = false;
-    while !shutting_down {
-        let now = clock::now();
-        let wait = engine
-            .next_ready_at()
-            .map_or(0.05, |at| (at - now).clamp(0.0, 0.05));
-        let first = match rx.recv_timeout(Duration::from_secs_f64(wait)) {
-            Ok(msg) => Some(msg),
-            Err(RecvTimeoutError::Timeout) => None,
-            Err(RecvTimeoutError::Disconnected) => Some(Inbound::Shutdown),
-        };
-        for msg in first
-            .into_iter()
-            .chain(std::iter::from_fn(|| rx.try_recv().ok()))
-        {
-            match msg {
-                Inbound::Shutdown => shutting_down = true,
-                other => handle(&mut engine, other, &mut limiter, &ask_tx),
-            }
-        }
-        let now = clock::now();
-        let sets = if shutting_down {
-            engine.drain(now)
-        } else {
-            engine.step(now)
-        };
-        if let Some(last) = sets.last() {
-            let _ = tracks_tx.send(Some((last.clone(), now)));
-        }
-        let dropped = overflow.load(Ordering::Relaxed);
-        if dropped > reported_overflow {
-            if limiter.allow("overflow", now).is_some() {
-                tracing::warn!(dropped, "ingest queue full: sets dropped");
-            }
-            reported_overflow = dropped;
-        }
-        {
-            let mut status = engine.status(now);
-            status.rejected.invalid += dropped;
-            let mut guard = snapshot.lock().unwrap_or_else(|p| p.into_inner());
-            guard.tracks = engine.tracks().clone();
-            guard.status = status;
-        }
-        if shutting_down || now - last_checkpoint >= config.checkpoint.interval_s {
-            save_checkpoint(&config, &engine);
-            last_checkpoint = now;
-        }
-    }
-}
-
-fn handle(
-    engine: &mut Engine,
-    msg: Inbound,
-    limiter: &mut LogLimiter,
-    ask_tx: &mpsc::UnboundedSender<SensorId>,
-) {
-    let now = clock::now();
-    let result = match msg {
-        Inbound::Set {
-            key_sensor,
-            payload,
-            format,
-            arrived,
-        } => match format {
-            Ok(format) => engine
-                .admit_set(Some(&key_sensor), &payload, format, arrived)
-                .map(|_| ()),
-            Err(e) => Err(engine.reject_undecodable(Some(&key_sensor), e)),
-        },
-        Inbound::Descriptor { payload, format } => match format {
-            Ok(format) => engine.admit_descriptor(&payload, format).map(|learned| {
-                tracing::debug!(?learned, "descriptor");
-            }),
-            Err(e) => Err(engine.reject_undecodable(None, e)),
-        },
-        Inbound::Alive { sensor, alive } => {
-            tracing::info!(sensor = %sensor, alive, "liveliness");
-            engine.set_alive(&sensor, alive);
-            if alive && !engine.is_known(&sensor) {
-                let _ = ask_tx.send(sensor);
-            }
-            Ok(())
-        }
-        Inbound::Shutdown => Ok(()),
-    };
-    if let Err(rejection) = result {
-        if let Rejection::UnknownSensor(sensor, count) = &rejection {
-            // Ask on the first set, then now and then in case the first answer was lost.
-            if *count % 200 == 1 {
-                let _ = ask_tx.send(sensor.clone());
-            }
-        }
-        let key = rejection_key(&rejection);
-        if let Some(suppressed) = limiter.allow(&key, now) {
-            tracing::warn!(suppressed, "{rejection}");
-        }
-    }
-}
-
-fn rejection_key(rejection: &Rejection) -> String {
-    match rejection {
-        Rejection::Undecodable(_) => "undecodable".into(),
-        Rejection::Invalid { sensor, .. } => format!("invalid/{sensor}"),
-        Rejection::UnknownSensor(sensor, _) => format!("unknown/{sensor}"),
-        Rejection::Late { sensor, .. } => format!("late/{sensor}"),
-        Rejection::Overflow(sensor) => format!("overflow/{sensor}"),
-    }
 }

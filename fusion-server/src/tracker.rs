@@ -5,8 +5,9 @@ use gmphd::birth::{BirthTiming, GridBirth, GridBirthConfig, MixtureBirth};
 use gmphd::measurement::{Measurement, MeasurementModel};
 use gmphd::tracks::TrackManagerConfig;
 use gmphd::{
-    ConstantVelocity, FilterConfig as GmFilterConfig, GmPhdFilter, LabelledTracker, MotionModel,
-    PruneMergeCap, RandomWalk, Survival, TrackerConfig, UnscentedParams,
+    AdaptiveBirthConfig, ConstantVelocity, FilterConfig as GmFilterConfig, GmPhdFilter,
+    LabelledTracker, MotionModel, PruneMergeCap, RandomWalk, Survival, TrackerConfig,
+    UnscentedParams,
 };
 use nalgebra::{DMatrix, DVector};
 use protocol::{MeasurementSet, Track};
@@ -85,6 +86,17 @@ impl Tracker {
             },
             0.0,
         )?;
+        let filter = if f.adaptive_birth {
+            filter.with_adaptive_birth(AdaptiveBirthConfig {
+                rate: f.adaptive_birth_rate,
+                velocity_std: f.adaptive_birth_velocity_std,
+                // Lighter births would be pruned at the next reduction anyway.
+                min_weight: f.prune_threshold,
+                ..AdaptiveBirthConfig::default()
+            })?
+        } else {
+            filter
+        };
         let t = &config.tracks;
         let tracker_config = TrackerConfig {
             extraction_threshold: f.extraction_threshold,

@@ -44,6 +44,14 @@ fn bad_values_name_their_key() {
             "filter.survival_probability",
         ),
         ("[filter]\nmotion = \"teleport\"\n", "filter.motion"),
+        (
+            "[filter]\nadaptive_birth_rate = -0.5\n",
+            "filter.adaptive_birth_rate",
+        ),
+        (
+            "[filter]\nadaptive_birth_velocity_std = 0\n",
+            "filter.adaptive_birth_velocity_std",
+        ),
         ("[zenoh]\nmode = \"router\"\n", "zenoh.mode"),
         ("[zenoh]\nconnect = [\"localhost\"]\n", "zenoh.connect"),
         ("[site]\nname = \"a/b\"\n", "site.name"),
