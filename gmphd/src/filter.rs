@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
 use crate::birth::BirthModel;
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{GaussianMixture, LabelSource};
@@ -12,7 +13,7 @@ use crate::predict::{predict_intensity, PredictionStep, Survival};
 use crate::reduce::Reducer;
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
-use crate::update::{update_intensity, UpdateStep};
+use crate::update::{update_with_association, UpdateStep};
 
 /// Settings of the recursion that are not models.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -32,6 +33,10 @@ pub struct FilterState {
     pub time: f64,
     /// The next label the filter will hand out.
     pub next_label: u64,
+    /// Measurement-driven births waiting for the next prediction (empty without
+    /// adaptive birth; absent in checkpoints of older versions).
+    #[serde(default)]
+    pub pending_births: Vec<BirthCandidate>,
 }
 
 /// A GM-PHD filter over one state space, fed by any number of sensors.
@@ -40,16 +45,22 @@ pub struct FilterState {
 /// once per sensor that reported at that stamp — the sequential multi-sensor
 /// update of Pham 5.3.2, where each sensor's posterior is the next one's prior —
 /// then [`GmPhdFilter::reduce`].
+///
+/// With [`GmPhdFilter::with_adaptive_birth`], each update also leaves measurement-driven
+/// births ([`AdaptiveBirth`]) that the next prediction adds to the static birth model's.
 #[derive(Debug)]
 pub struct GmPhdFilter {
     motion: Box<dyn MotionModel>,
     birth: Box<dyn BirthModel>,
+    adaptive_birth: Option<AdaptiveBirth>,
     spawn: Option<SpawnModel>,
     reducer: Box<dyn Reducer>,
     config: FilterConfig,
     intensity: GaussianMixture,
     time: f64,
     labels: LabelSource,
+    /// U(z) of each measurement of the last update.
+    last_association: Vec<f64>,
 }
 
 impl GmPhdFilter {
@@ -75,13 +86,23 @@ impl GmPhdFilter {
         Ok(Self {
             motion,
             birth,
+            adaptive_birth: None,
             spawn: None,
             reducer,
             config,
             intensity: GaussianMixture::new(),
             time: start_time,
             labels: LabelSource::default(),
+            last_association: Vec::new(),
         })
+    }
+
+    /// Adds measurement-driven birth (Ristic et al. 2012) to the static birth model: each
+    /// update's invertible measurements, weighted by how poorly the intensity explained
+    /// them, become births of the next prediction.
+    pub fn with_adaptive_birth(mut self, config: AdaptiveBirthConfig) -> Result<Self, FilterError> {
+        self.adaptive_birth = Some(AdaptiveBirth::new(config)?);
+        Ok(self)
     }
 
     /// Adds Vo & Ma's spawning to the prediction.
@@ -106,7 +127,8 @@ impl GmPhdFilter {
         Ok(())
     }
 
-    /// Predicts the intensity to time `t` (s): survival, spawning, births.
+    /// Predicts the intensity to time `t` (s): survival, spawning, births (the static
+    /// model's, then the pending measurement-driven ones, which are used up).
     /// Predicting to the current time is a no-op (a second sensor at the same
     /// stamp must not add births twice); an earlier time is an error.
     pub fn predict_to(&mut self, t: f64) -> Result<(), FilterError> {
@@ -125,7 +147,10 @@ impl GmPhdFilter {
             return Ok(());
         }
         let dt = t - self.time;
-        let births = self.birth.birth(dt, &mut self.labels);
+        let mut births = self.birth.birth(dt, &mut self.labels);
+        if let Some(adaptive) = &self.adaptive_birth {
+            births.extend(adaptive.births(self.motion.as_ref(), dt, &mut self.labels)?);
+        }
         let step = PredictionStep {
             motion: self.motion.as_ref(),
             survival_probability: self.config.survival.probability(dt),
@@ -133,13 +158,18 @@ impl GmPhdFilter {
             dt,
         };
         self.intensity = predict_intensity(&self.intensity, &step, births, &mut self.labels)?;
+        if let Some(adaptive) = &mut self.adaptive_birth {
+            adaptive.clear();
+        }
         self.time = t;
         Ok(())
     }
 
     /// Corrects the intensity with one sensor's measurement set at the current
-    /// time; an empty set is information too (nothing was detected). On error the
-    /// intensity is left unchanged.
+    /// time; an empty set is information too (nothing was detected). Records each
+    /// measurement's association weight ([`GmPhdFilter::last_association`]) and, with
+    /// adaptive birth, the births it leaves for the next prediction. On error the
+    /// filter is left unchanged.
     pub fn update(
         &mut self,
         sensor: &dyn MeasurementModel,
@@ -150,8 +180,30 @@ impl GmPhdFilter {
             sensor,
             unscented: &self.config.unscented,
         };
-        self.intensity = update_intensity(&self.intensity, &step, measurements)?;
+        let outcome = update_with_association(&self.intensity, &step, measurements)?;
+        if let Some(adaptive) = &mut self.adaptive_birth {
+            adaptive.record(
+                self.motion.as_ref(),
+                sensor,
+                measurements,
+                &outcome.association,
+            );
+        }
+        self.intensity = outcome.posterior;
+        self.last_association = outcome.association;
         Ok(())
+    }
+
+    /// U(z) of each measurement of the last update, in its order: the probability that
+    /// the intensity explains it; 1 − U(z) is the probability that it is clutter or a new
+    /// object. See [`UpdateOutcome`](crate::update::UpdateOutcome).
+    pub fn last_association(&self) -> &[f64] {
+        &self.last_association
+    }
+
+    /// The measurement-driven birth, when enabled.
+    pub fn adaptive_birth(&self) -> Option<&AdaptiveBirth> {
+        self.adaptive_birth.as_ref()
     }
 
     /// Prunes, merges and caps the intensity with the configured reducer.
@@ -190,12 +242,18 @@ impl GmPhdFilter {
             intensity: self.intensity.clone(),
             time: self.time,
             next_label: self.labels.peek(),
+            pending_births: self
+                .adaptive_birth
+                .as_ref()
+                .map(|adaptive| adaptive.pending().to_vec())
+                .unwrap_or_default(),
         }
     }
 
     /// Resumes from a checkpoint taken with [`GmPhdFilter::state`] (models and
     /// configuration are not part of it). The label source continues after both
-    /// the saved next label and every label in the intensity.
+    /// the saved next label and every label in the intensity. Pending births are
+    /// restored when adaptive birth is enabled and ignored otherwise.
     pub fn restore(&mut self, state: FilterState) -> Result<(), FilterError> {
         if !state.time.is_finite() {
             return Err(FilterError::NonFinite {
@@ -203,6 +261,9 @@ impl GmPhdFilter {
             });
         }
         self.validate_mixture(&state.intensity)?;
+        if let Some(adaptive) = &mut self.adaptive_birth {
+            adaptive.restore(state.pending_births, self.motion.state_dim())?;
+        }
         self.labels = LabelSource::starting_at(state.next_label);
         self.skip_used_labels(&state.intensity);
         self.intensity = state.intensity;

@@ -4,8 +4,10 @@
 //! thesis (ch. 3.5, 4, 5.3): prediction with survival, birth and spawning;
 //! update with state-dependent detection probability and uniform clutter,
 //! linear (Kalman) or unscented; sequential multi-sensor correction; mixture
-//! reduction; labelled state extraction.
+//! reduction; labelled state extraction; optional measurement-driven birth
+//! (Ristic, Clark, Vo & Vo 2012) next to the static birth intensity.
 
+pub mod adaptive_birth;
 pub mod assignment;
 pub mod birth;
 pub mod error;
@@ -25,13 +27,14 @@ pub mod tracks;
 pub mod ukf;
 pub mod update;
 
+pub use adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
 pub use birth::{BirthModel, BirthTiming, GridBirth, GridBirthConfig, MixtureBirth};
 pub use error::FilterError;
 pub use filter::{FilterConfig, FilterState, GmPhdFilter};
 pub use gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 pub use measurement::{
-    BearingRange, Detection, Lidar, Measurement, MeasurementModel, MicPair, PinholeCamera,
-    PositionSensor,
+    BearingRange, Detection, HeightPrior, Lidar, Measurement, MeasurementModel, MicPair,
+    PinholeCamera, PositionSensor,
 };
 pub use motion::{ConstantVelocity, CoordinatedTurn, MotionModel, RandomWalk};
 pub use predict::Survival;

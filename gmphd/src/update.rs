@@ -100,18 +100,42 @@ struct Detectable<'a> {
     correction: Correction,
 }
 
-/// Updates the predicted intensity with one sensor's measurement set.
+/// The posterior of one update and how well the prior explained each measurement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UpdateOutcome {
+    /// The updated intensity.
+    pub posterior: GaussianMixture,
+    /// Per measurement, in input order: its total posterior association weight
+    /// U(z) = Σ_j p_D w_j q_j(z) / (κ(z) + Σ_j p_D w_j q_j(z)), the probability that some
+    /// component of the prior produced it; 1 − U(z) is the probability that it is
+    /// clutter or a new object (Ristic, Clark, Vo & Vo 2012). 0 for a measurement that
+    /// neither a component nor clutter can explain.
+    pub association: Vec<f64>,
+}
+
+/// Updates the predicted intensity with one sensor's measurement set; see
+/// [`update_with_association`], of which this keeps only the posterior.
+pub fn update_intensity(
+    predicted: &GaussianMixture,
+    step: &UpdateStep<'_>,
+    measurements: &[Measurement],
+) -> Result<GaussianMixture, FilterError> {
+    Ok(update_with_association(predicted, step, measurements)?.posterior)
+}
+
+/// Updates the predicted intensity with one sensor's measurement set and reports each
+/// measurement's total association weight.
 ///
 /// p_D is evaluated at each component's predicted position; components the sensor
 /// cannot see pass through unchanged. Updated components keep their parent's
 /// label. A measurement's own covariance replaces the sensor noise for it. An
 /// empty set only applies the missed-detection term. Components of exactly zero
 /// weight (underflow, p_D = 1 misses) are dropped since they carry no intensity.
-pub fn update_intensity(
+pub fn update_with_association(
     predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     measurements: &[Measurement],
-) -> Result<GaussianMixture, FilterError> {
+) -> Result<UpdateOutcome, FilterError> {
     for measurement in measurements {
         step.sensor.validate(measurement)?;
     }
@@ -150,6 +174,7 @@ pub fn update_intensity(
 
     let log_clutter = step.sensor.clutter_intensity().ln();
     let mut log_terms = Vec::with_capacity(detectable.len() + 1);
+    let mut association = Vec::with_capacity(measurements.len());
     for measurement in measurements {
         let own_corrections: Option<Vec<Correction>> = measurement.cov.as_ref().map(|r| {
             detectable
@@ -178,8 +203,13 @@ pub fn update_intensity(
         let log_normaliser = log_sum_exp(&log_terms);
         if log_normaliser == f64::NEG_INFINITY {
             // No clutter and no component can explain z: it contributes nothing.
+            association.push(0.0);
             continue;
         }
+        // U(z) = 1 − κ/normaliser, through exp_m1 so that a barely explained measurement
+        // keeps its small U exactly; round-off in the log-sum-exp can put it just below 0.
+        let explained = -(log_clutter - log_normaliser).exp_m1();
+        association.push(if explained > 0.0 { explained } else { 0.0 });
         for (k, d) in detectable.iter().enumerate() {
             let weight = (log_terms[k] - log_normaliser).exp();
             if weight > 0.0 {
@@ -193,5 +223,8 @@ pub fn update_intensity(
             }
         }
     }
-    Ok(GaussianMixture::from_components(components))
+    Ok(UpdateOutcome {
+        posterior: GaussianMixture::from_components(components),
+        association,
+    })
 }

@@ -214,6 +214,7 @@ fn restore_rejects_a_malformed_checkpoint() {
         )]),
         time: 0.0,
         next_label: 2,
+        pending_births: Vec::new(),
     };
     assert!(phd.restore(wrong_dim).is_err());
     let negative = FilterState {
@@ -225,6 +226,7 @@ fn restore_rejects_a_malformed_checkpoint() {
         )]),
         time: 0.0,
         next_label: 2,
+        pending_births: Vec::new(),
     };
     assert!(phd.restore(negative).is_err());
 }

@@ -2,11 +2,11 @@
 
 use std::f64::consts::{PI, TAU};
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, finite_point, positive, wrapped_residual, Detection,
-    MeasurementModel,
+    check_uniforms, diagonal_noise, finite_point, invertible_input, positive, wrapped_residual,
+    Detection, HeightPrior, MeasurementModel, DEFAULT_HEIGHT_STD,
 };
 use crate::error::FilterError;
 
@@ -14,12 +14,15 @@ use crate::error::FilterError;
 /// sensor position, heights ignored.
 ///
 /// Detectable within `max_range`; clutter is uniform over [−π, π) × [0, max_range].
+/// Heights are not measured: inverted points take the height of the sensor's
+/// [`HeightPrior`] (by default the sensor's own height with a 10 m standard deviation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BearingRange {
     position: Vector3<f64>,
     noise_cov: DMatrix<f64>,
     max_range: f64,
     detection: Detection,
+    height_prior: HeightPrior,
 }
 
 impl BearingRange {
@@ -30,12 +33,21 @@ impl BearingRange {
         max_range: f64,
         detection: Detection,
     ) -> Result<Self, FilterError> {
+        let position = finite_point(position, "bearing-range sensor position")?;
         Ok(Self {
-            position: finite_point(position, "bearing-range sensor position")?,
+            position,
             noise_cov: diagonal_noise(&noise_std)?,
             max_range: positive(max_range, "bearing-range max range")?,
             detection,
+            // A radar-like sensor most plausibly sees objects around its own height.
+            height_prior: HeightPrior::new(position.z, DEFAULT_HEIGHT_STD)?,
         })
+    }
+
+    /// Sets the height given to points inverted from this sensor's measurements.
+    pub fn with_height_prior(mut self, height_prior: HeightPrior) -> Self {
+        self.height_prior = height_prior;
+        self
     }
 }
 
@@ -73,6 +85,27 @@ impl MeasurementModel for BearingRange {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         wrapped_residual(z, zhat, &[0])
+    }
+
+    fn invert_with_noise(
+        &self,
+        z: &DVector<f64>,
+        noise: &DMatrix<f64>,
+    ) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+        if !invertible_input(z, noise, 2) || z[1] <= 0.0 {
+            return None;
+        }
+        let (bearing, range) = (z[0], z[1]);
+        let (sin, cos) = bearing.sin_cos();
+        // Columns: ∂(x, y)/∂bearing, ∂(x, y)/∂range.
+        let jacobian = Matrix2::new(-range * sin, cos, range * cos, sin);
+        let noise = Matrix2::from_fn(|r, c| noise[(r, c)]);
+        let cov_xy = jacobian * noise * jacobian.transpose();
+        Some(self.height_prior.complete(
+            self.position.x + range * cos,
+            self.position.y + range * sin,
+            &((cov_xy + cov_xy.transpose()) * 0.5),
+        ))
     }
 
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {

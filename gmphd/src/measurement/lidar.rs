@@ -2,11 +2,11 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use nalgebra::{DMatrix, DVector, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, finite_point, positive, wrapped_residual, Detection,
-    MeasurementModel,
+    check_uniforms, diagonal_noise, finite_point, invertible_input, positive, wrapped_residual,
+    Detection, MeasurementModel,
 };
 use crate::error::{invalid, FilterError};
 
@@ -111,6 +111,32 @@ impl MeasurementModel for Lidar {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         wrapped_residual(z, zhat, &[1])
+    }
+
+    fn invert_with_noise(
+        &self,
+        z: &DVector<f64>,
+        noise: &DMatrix<f64>,
+    ) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+        if !invertible_input(z, noise, 3) || z[0] <= 0.0 {
+            return None;
+        }
+        let (range, (sin_az, cos_az), (sin_el, cos_el)) = (z[0], z[1].sin_cos(), z[2].sin_cos());
+        let direction = Vector3::new(cos_el * cos_az, cos_el * sin_az, sin_el);
+        // Columns: ∂s/∂range, ∂s/∂azimuth, ∂s/∂elevation of the sensor-frame point s.
+        let jacobian_sensor = Matrix3::from_columns(&[
+            direction,
+            range * Vector3::new(-cos_el * sin_az, cos_el * cos_az, 0.0),
+            range * Vector3::new(-sin_el * cos_az, -sin_el * sin_az, cos_el),
+        ]);
+        let rotation = self.orientation.to_rotation_matrix();
+        let jacobian = rotation.matrix() * jacobian_sensor;
+        let noise = Matrix3::from_fn(|r, c| noise[(r, c)]);
+        let cov = jacobian * noise * jacobian.transpose();
+        Some((
+            self.position + rotation * (range * direction),
+            (cov + cov.transpose()) * 0.5,
+        ))
     }
 
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {

@@ -8,19 +8,21 @@
 
 mod bearing_range;
 mod camera;
+mod height_prior;
 mod lidar;
 mod mic_pair;
 mod position;
 
 pub use bearing_range::BearingRange;
 pub use camera::PinholeCamera;
+pub use height_prior::{HeightPrior, DEFAULT_HEIGHT_STD};
 pub use lidar::Lidar;
 pub use mic_pair::MicPair;
 pub use position::PositionSensor;
 
 use std::fmt::Debug;
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use crate::error::{invalid, FilterError};
 use crate::linalg::{check_finite_vector, check_spd, wrap_angle};
@@ -115,6 +117,30 @@ pub trait MeasurementModel: Send + Sync + Debug {
         None
     }
 
+    /// The world point a noise-free measurement `z` comes from, with the covariance the
+    /// sensor's default noise maps to there; see [`MeasurementModel::invert_with_noise`].
+    fn invert(&self, z: &DVector<f64>) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+        self.invert_with_noise(z, &self.noise_cov())
+    }
+
+    /// The world point p with h(p) = `z`, and the covariance J R Jᵀ that the measurement
+    /// noise `noise` (R) maps to, J the Jacobian of the inverse map at `z` (first order).
+    /// Used by measurement-driven birth (Ristic, Clark, Vo & Vo 2012).
+    ///
+    /// `None` (the default) when one measurement does not determine a point — a camera
+    /// pixel is a ray, a TDOA a hyperboloid — or when `z` is malformed or degenerate
+    /// (wrong size, non-finite, a range ≤ 0). The covariance is symmetric positive
+    /// semi-definite; it can be singular where the inverse map loses a direction (a
+    /// LIDAR return exactly along its ±z axis, where azimuth is undefined).
+    fn invert_with_noise(
+        &self,
+        z: &DVector<f64>,
+        noise: &DMatrix<f64>,
+    ) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+        let _ = (z, noise);
+        None
+    }
+
     /// Maps `dim()` uniforms in [0, 1) to a point of the measurement region,
     /// uniformly distributed there when the inputs are (used to simulate clutter).
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError>;
@@ -179,6 +205,15 @@ pub(crate) fn wrapped_residual(
         }
     }
     r
+}
+
+/// True when `z` has `dim` finite entries and `noise` is a finite `dim` × `dim` matrix:
+/// the precondition of every `invert_with_noise`.
+pub(crate) fn invertible_input(z: &DVector<f64>, noise: &DMatrix<f64>, dim: usize) -> bool {
+    z.len() == dim
+        && noise.nrows() == dim
+        && noise.ncols() == dim
+        && z.iter().chain(noise.iter()).all(|x| x.is_finite())
 }
 
 /// Checks that a 3-D point given as an array is finite.

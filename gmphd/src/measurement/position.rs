@@ -1,12 +1,17 @@
 //! Direct position measurements (GPS-like, or a fused 3-D detector): linear.
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
-use super::{check_uniforms, diagonal_noise, Detection, MeasurementModel};
+use super::{
+    check_uniforms, diagonal_noise, invertible_input, Detection, HeightPrior, MeasurementModel,
+};
 use crate::error::{invalid, FilterError};
 
 /// Measures the first `dims` world coordinates of an object, z = p[..dims] + noise,
 /// inside an axis-aligned region box (outside it the object is not detected).
+///
+/// A 2-D sensor does not see heights: its inverted points take the height of its
+/// [`HeightPrior`] (by default the ground plane with a 10 m standard deviation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PositionSensor {
     dims: usize,
@@ -14,6 +19,7 @@ pub struct PositionSensor {
     region_min: Vec<f64>,
     region_max: Vec<f64>,
     detection: Detection,
+    height_prior: HeightPrior,
 }
 
 impl PositionSensor {
@@ -56,7 +62,15 @@ impl PositionSensor {
             region_min: region_min.to_vec(),
             region_max: region_max.to_vec(),
             detection,
+            height_prior: HeightPrior::default(),
         })
+    }
+
+    /// Sets the height given to points inverted from a 2-D sensor's measurements
+    /// (ignored by a 3-D sensor, which measures the height).
+    pub fn with_height_prior(mut self, height_prior: HeightPrior) -> Self {
+        self.height_prior = height_prior;
+        self
     }
 
     fn inside(&self, p: &Vector3<f64>) -> bool {
@@ -105,6 +119,26 @@ impl MeasurementModel for PositionSensor {
 
     fn linear_position_dims(&self) -> Option<usize> {
         Some(self.dims)
+    }
+
+    fn invert_with_noise(
+        &self,
+        z: &DVector<f64>,
+        noise: &DMatrix<f64>,
+    ) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+        if !invertible_input(z, noise, self.dims) {
+            return None;
+        }
+        // h is the identity on the measured coordinates, so J = I and the covariance is R.
+        if self.dims == 3 {
+            Some((
+                Vector3::new(z[0], z[1], z[2]),
+                Matrix3::from_fn(|r, c| noise[(r, c)]),
+            ))
+        } else {
+            let cov_xy = Matrix2::from_fn(|r, c| noise[(r, c)]);
+            Some(self.height_prior.complete(z[0], z[1], &cov_xy))
+        }
     }
 
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {
