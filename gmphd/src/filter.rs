@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
 use crate::birth::BirthModel;
 use crate::error::{invalid, FilterError};
+use crate::gating::Gating;
 use crate::gaussian::{GaussianMixture, LabelSource};
 use crate::linalg::{check_finite_vector, check_spd};
 use crate::measurement::{Measurement, MeasurementModel};
@@ -13,9 +14,14 @@ use crate::predict::{predict_intensity, PredictionStep, Survival};
 use crate::reduce::Reducer;
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
-use crate::update::{update_with_association, UpdateStep};
+use crate::update::{update_gated, UpdateStep};
 
 /// Settings of the recursion that are not models.
+///
+/// Gating of component–measurement pairs in the update is set apart, with
+/// [`GmPhdFilter::with_gating`]: on by default ([`Gating::default`]: a 99.99 % χ²
+/// validation gate and a posterior weight floor of 1e-9; see [`crate::gating`] for the
+/// rules and their effect on accuracy).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FilterConfig {
     /// Probability that an object survives a prediction.
@@ -56,6 +62,7 @@ pub struct GmPhdFilter {
     spawn: Option<SpawnModel>,
     reducer: Box<dyn Reducer>,
     config: FilterConfig,
+    gating: Gating,
     intensity: GaussianMixture,
     time: f64,
     labels: LabelSource,
@@ -90,6 +97,7 @@ impl GmPhdFilter {
             spawn: None,
             reducer,
             config,
+            gating: Gating::default(),
             intensity: GaussianMixture::new(),
             time: start_time,
             labels: LabelSource::default(),
@@ -103,6 +111,19 @@ impl GmPhdFilter {
     pub fn with_adaptive_birth(mut self, config: AdaptiveBirthConfig) -> Result<Self, FilterError> {
         self.adaptive_birth = Some(AdaptiveBirth::new(config)?);
         Ok(self)
+    }
+
+    /// Replaces the gating of component–measurement pairs in the update ([`Gating::default`]
+    /// unless set; [`Gating::OFF`] for the exact update).
+    pub fn with_gating(mut self, gating: Gating) -> Result<Self, FilterError> {
+        gating.validate()?;
+        self.gating = gating;
+        Ok(self)
+    }
+
+    /// The gating of component–measurement pairs in the update.
+    pub fn gating(&self) -> &Gating {
+        &self.gating
     }
 
     /// Adds Vo & Ma's spawning to the prediction.
@@ -180,7 +201,7 @@ impl GmPhdFilter {
             sensor,
             unscented: &self.config.unscented,
         };
-        let outcome = update_with_association(&self.intensity, &step, measurements)?;
+        let outcome = update_gated(&self.intensity, &step, &self.gating, measurements)?;
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.record(
                 self.motion.as_ref(),

@@ -13,6 +13,7 @@ pub mod birth;
 pub mod error;
 pub mod extract;
 pub mod filter;
+pub mod gating;
 pub mod gaussian;
 pub mod labels;
 pub mod linalg;
@@ -31,6 +32,7 @@ pub use adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
 pub use birth::{BirthModel, BirthTiming, GridBirth, GridBirthConfig, MixtureBirth};
 pub use error::FilterError;
 pub use filter::{FilterConfig, FilterState, GmPhdFilter};
+pub use gating::Gating;
 pub use gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 pub use measurement::{
     BearingRange, Detection, HeightPrior, Lidar, Measurement, MeasurementModel, MicPair,

@@ -5,15 +5,40 @@
 //! log-sum-exp with log κ(z), so a likelihood peaked like a 6e-5 s TDOA (densities
 //! around 1e4) or a zero clutter intensity (log κ = −∞) never overflows or divides
 //! by zero.
+//!
+//! **Gating** ([`Gating`], on by default in the filter): a component–measurement pair
+//! outside the component's χ² validation gate is not evaluated further, and a pair whose
+//! posterior weight is below a floor is not emitted; [`Gating::OFF`] gives the exact update.
+//! The rules and what they cost in accuracy are in [`crate::gating`].
+//!
+//! **Cost.** Per component, once: the projection into measurement space (a slice, or an
+//! unscented transform) and the Cholesky factor of the innovation covariance. Per pair: a
+//! residual, a bounding-box test of the gate and, inside it, a forward substitution that
+//! stops as soon as the distance leaves the gate — no allocation. Gain and posterior
+//! covariance do not depend on z: they are computed once per component that has a kept
+//! pair and shared by its children; only an emitted child allocates (its mean and its copy
+//! of the covariance). Components are prepared, and measurements scored and emitted, in
+//! parallel (rayon) when there is enough work; each item is computed the same way either
+//! way and results are collected in order, so the output is identical, component for
+//! component, on any number of threads.
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+mod component;
+mod pairs;
+
+use rayon::prelude::*;
 
 use crate::error::FilterError;
+use crate::gating::Gating;
 use crate::gaussian::{Gaussian, GaussianMixture};
-use crate::linalg::{gaussian_log_density, log_sum_exp, nearest_spd, robust_cholesky, symmetrize};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
-use crate::ukf::{SigmaPoints, UnscentedParams};
+use crate::ukf::UnscentedParams;
+use component::{Correction, Detectable, Innovation, Projection};
+use pairs::{MeasurementPairs, PairRules, Scratch};
+
+/// Fewest component–measurement pairs (or unscented components × 16) for which the update
+/// runs in parallel: below it, waking a second thread costs more than it saves.
+const PARALLEL_MIN_WORK: usize = 2048;
 
 /// The models one update needs.
 #[derive(Debug, Clone, Copy)]
@@ -24,80 +49,6 @@ pub struct UpdateStep<'a> {
     pub sensor: &'a dyn MeasurementModel,
     /// Parameters of the unscented transform for nonlinear sensors.
     pub unscented: &'a UnscentedParams,
-}
-
-/// A predicted component seen in measurement space (noise not included).
-struct Projection {
-    predicted_z: DVector<f64>,
-    z_cov: DMatrix<f64>,
-    cross_cov: DMatrix<f64>,
-    /// H = [I_d 0] when the sensor reads the first d state components directly;
-    /// then the exact Kalman (Joseph form) covariance update is used.
-    selection: Option<DMatrix<f64>>,
-}
-
-/// Innovation factor, gain and posterior covariance for one noise covariance.
-struct Correction {
-    innovation: Cholesky<f64, Dyn>,
-    gain: DMatrix<f64>,
-    posterior_cov: DMatrix<f64>,
-}
-
-impl Projection {
-    fn linear(mean: &DVector<f64>, cov: &DMatrix<f64>, dims: usize) -> Self {
-        let n = mean.len();
-        Self {
-            predicted_z: mean.rows(0, dims).into_owned(),
-            z_cov: cov.view((0, 0), (dims, dims)).into_owned(),
-            cross_cov: cov.columns(0, dims).into_owned(),
-            selection: Some(DMatrix::identity(dims, n)),
-        }
-    }
-
-    fn unscented(component: &Gaussian, step: &UpdateStep<'_>) -> Result<Self, FilterError> {
-        let sigma = SigmaPoints::new(&component.mean, &component.cov, step.unscented)?;
-        let out = sigma.transform(
-            |x| step.sensor.measure(&step.motion.position(x)),
-            |a, b| step.sensor.residual(a, b),
-        );
-        Ok(Self {
-            predicted_z: out.mean,
-            z_cov: out.cov,
-            cross_cov: out.cross_cov,
-            selection: None,
-        })
-    }
-
-    fn correct(&self, prior_cov: &DMatrix<f64>, noise: &DMatrix<f64>) -> Correction {
-        let innovation = robust_cholesky(&symmetrize(&(&self.z_cov + noise)));
-        // K = C S⁻¹, computed as (S⁻¹ Cᵀ)ᵀ with S symmetric.
-        let gain = innovation.solve(&self.cross_cov.transpose()).transpose();
-        let posterior = match &self.selection {
-            Some(h) => {
-                // Joseph form: stays symmetric positive definite under round-off.
-                let n = prior_cov.nrows();
-                let a = DMatrix::identity(n, n) - &gain * h;
-                &a * prior_cov * a.transpose() + &gain * noise * gain.transpose()
-            }
-            // K S Kᵀ = K Cᵀ because K S = C.
-            None => prior_cov - &gain * self.cross_cov.transpose(),
-        };
-        Correction {
-            innovation,
-            gain,
-            posterior_cov: nearest_spd(&posterior),
-        }
-    }
-}
-
-/// A predicted component the sensor can detect, prepared for the update.
-struct Detectable<'a> {
-    component: &'a Gaussian,
-    /// log(p_D · w).
-    log_prior: f64,
-    projection: Projection,
-    /// Correction with the sensor's default noise.
-    correction: Correction,
 }
 
 /// The posterior of one update and how well the prior explained each measurement.
@@ -113,40 +64,57 @@ pub struct UpdateOutcome {
     pub association: Vec<f64>,
 }
 
-/// Updates the predicted intensity with one sensor's measurement set; see
-/// [`update_with_association`], of which this keeps only the posterior.
+/// Updates the predicted intensity with one sensor's measurement set, exactly (no
+/// gating); see [`update_gated`], of which this keeps only the posterior.
 pub fn update_intensity(
     predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     measurements: &[Measurement],
 ) -> Result<GaussianMixture, FilterError> {
-    Ok(update_with_association(predicted, step, measurements)?.posterior)
+    Ok(update_gated(predicted, step, &Gating::OFF, measurements)?.posterior)
 }
 
-/// Updates the predicted intensity with one sensor's measurement set and reports each
-/// measurement's total association weight.
+/// Updates the predicted intensity with one sensor's measurement set, exactly (no
+/// gating), and reports each measurement's total association weight; see
+/// [`update_gated`].
+pub fn update_with_association(
+    predicted: &GaussianMixture,
+    step: &UpdateStep<'_>,
+    measurements: &[Measurement],
+) -> Result<UpdateOutcome, FilterError> {
+    update_gated(predicted, step, &Gating::OFF, measurements)
+}
+
+/// Updates the predicted intensity with one sensor's measurement set under `gating` and
+/// reports each measurement's total association weight.
 ///
 /// p_D is evaluated at each component's predicted position; components the sensor
 /// cannot see pass through unchanged. Updated components keep their parent's
 /// label. A measurement's own covariance replaces the sensor noise for it. An
 /// empty set only applies the missed-detection term. Components of exactly zero
 /// weight (underflow, p_D = 1 misses) are dropped since they carry no intensity.
-pub fn update_with_association(
-    predicted: &GaussianMixture,
+///
+/// Order of the result: the missed-detection components in input order, then, per
+/// measurement in input order, its children in component order.
+pub fn update_gated<'p>(
+    predicted: &'p GaussianMixture,
     step: &UpdateStep<'_>,
+    gating: &Gating,
     measurements: &[Measurement],
 ) -> Result<UpdateOutcome, FilterError> {
+    gating.validate()?;
     for measurement in measurements {
         step.sensor.validate(measurement)?;
     }
     let noise = step.sensor.noise_cov();
+    let gate = gating.distance_threshold(step.sensor.dim());
     let linear_dims = step
         .sensor
         .linear_position_dims()
         .filter(|&d| d <= step.motion.position_dims());
 
     let mut components = Vec::new();
-    let mut detectable = Vec::new();
+    let mut seen = Vec::new();
     for component in predicted.iter().filter(|c| c.weight > 0.0) {
         let position = step.motion.position(&component.mean);
         let p_d = step.sensor.detection_probability(&position).clamp(0.0, 1.0);
@@ -158,73 +126,88 @@ pub fn update_with_association(
             });
         }
         if p_d > 0.0 {
-            let projection = match linear_dims {
-                Some(d) => Projection::linear(&component.mean, &component.cov, d),
-                None => Projection::unscented(component, step)?,
-            };
-            let correction = projection.correct(&component.cov, &noise);
-            detectable.push(Detectable {
-                component,
-                log_prior: (p_d * component.weight).ln(),
-                projection,
-                correction,
-            });
+            seen.push((component, (p_d * component.weight).ln()));
         }
     }
 
-    let log_clutter = step.sensor.clutter_intensity().ln();
-    let mut log_terms = Vec::with_capacity(detectable.len() + 1);
-    let mut association = Vec::with_capacity(measurements.len());
-    for measurement in measurements {
-        let own_corrections: Option<Vec<Correction>> = measurement.cov.as_ref().map(|r| {
-            detectable
-                .iter()
-                .map(|d| d.projection.correct(&d.component.cov, r))
-                .collect()
-        });
-        let correction_of = |k: usize| -> &Correction {
-            own_corrections
-                .as_ref()
-                .map_or(&detectable[k].correction, |own| &own[k])
+    let unscented_work = if linear_dims.is_some() { 1 } else { 16 };
+    let prepare = |seen: &(&'p Gaussian, f64)| -> Result<Detectable<'p>, FilterError> {
+        let (component, log_prior) = *seen;
+        let projection = match linear_dims {
+            Some(d) => Projection::linear(component, d),
+            None => Projection::unscented(component, step)?,
         };
-        let residuals: Vec<DVector<f64>> = detectable
-            .iter()
-            .map(|d| {
-                step.sensor
-                    .residual(&measurement.z, &d.projection.predicted_z)
+        let innovation = Innovation::new(&projection, &noise, gate);
+        Ok(Detectable {
+            component,
+            log_prior,
+            projection,
+            innovation,
+        })
+    };
+    let detectable: Vec<Detectable<'_>> = if parallel(seen.len() * unscented_work) {
+        seen.par_iter()
+            .map(prepare)
+            .collect::<Result<_, FilterError>>()?
+    } else {
+        seen.iter()
+            .map(prepare)
+            .collect::<Result<_, FilterError>>()?
+    };
+
+    let rules = PairRules {
+        sensor: step.sensor,
+        log_clutter: step.sensor.clutter_intensity().ln(),
+        gate,
+        min_weight: gating.min_weight,
+    };
+    let pair_work = parallel(detectable.len() * measurements.len());
+    let scored: Vec<MeasurementPairs> = if pair_work {
+        measurements
+            .par_iter()
+            .map_init(Scratch::default, |scratch, m| {
+                pairs::score(&detectable, m, &rules, scratch)
             })
-            .collect();
-        log_terms.clear();
-        for (k, d) in detectable.iter().enumerate() {
-            let log_q = gaussian_log_density(&residuals[k], &correction_of(k).innovation);
-            log_terms.push(d.log_prior + log_q);
-        }
-        log_terms.push(log_clutter);
-        let log_normaliser = log_sum_exp(&log_terms);
-        if log_normaliser == f64::NEG_INFINITY {
-            // No clutter and no component can explain z: it contributes nothing.
-            association.push(0.0);
-            continue;
-        }
-        // U(z) = 1 − κ/normaliser, through exp_m1 so that a barely explained measurement
-        // keeps its small U exactly; round-off in the log-sum-exp can put it just below 0.
-        let explained = -(log_clutter - log_normaliser).exp_m1();
-        association.push(if explained > 0.0 { explained } else { 0.0 });
-        for (k, d) in detectable.iter().enumerate() {
-            let weight = (log_terms[k] - log_normaliser).exp();
-            if weight > 0.0 {
-                let correction = correction_of(k);
-                components.push(Gaussian::new(
-                    weight,
-                    &d.component.mean + &correction.gain * &residuals[k],
-                    correction.posterior_cov.clone(),
-                    d.component.label,
-                ));
-            }
-        }
-    }
+            .collect()
+    } else {
+        let mut scratch = Scratch::default();
+        measurements
+            .iter()
+            .map(|m| pairs::score(&detectable, m, &rules, &mut scratch))
+            .collect()
+    };
+
+    let mut needed = vec![false; detectable.len()];
+    pairs::mark_default_noise_children(&scored, measurements, &mut needed);
+    let correct = |(d, needed): (&Detectable<'_>, &bool)| {
+        needed.then(|| Correction::new(&d.projection, &d.innovation, &d.component.cov, &noise))
+    };
+    let needed_count = needed.iter().filter(|n| **n).count();
+    let shared: Vec<Option<Correction>> = if parallel(needed_count * unscented_work) {
+        detectable.par_iter().zip(&needed).map(correct).collect()
+    } else {
+        detectable.iter().zip(&needed).map(correct).collect()
+    };
+
+    let emit = |(pairs, measurement): (&MeasurementPairs, &Measurement)| {
+        pairs::children(pairs, measurement, &detectable, &shared, &noise)
+    };
+    let kept: usize = scored.iter().map(|s| s.pairs.len()).sum();
+    let children: Vec<Vec<Gaussian>> = if parallel(kept * 8) {
+        scored.par_iter().zip(measurements).map(emit).collect()
+    } else {
+        scored.iter().zip(measurements).map(emit).collect()
+    };
+    components.reserve(kept);
+    components.extend(children.into_iter().flatten());
     Ok(UpdateOutcome {
         posterior: GaussianMixture::from_components(components),
-        association,
+        association: scored.iter().map(|s| s.association).collect(),
     })
+}
+
+/// Whether `work` (roughly in units of one pair evaluation) is worth spreading over the
+/// rayon pool: only with more than one thread and enough work.
+fn parallel(work: usize) -> bool {
+    work >= PARALLEL_MIN_WORK && rayon::current_num_threads() > 1
 }

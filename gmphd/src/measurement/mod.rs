@@ -111,6 +111,17 @@ pub trait MeasurementModel: Send + Sync + Debug {
     /// z − ẑ with angular components wrapped to [-pi, pi).
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64>;
 
+    /// [`MeasurementModel::residual`] written into `out` (all three of length `dim()`):
+    /// the update's per-pair loop must not allocate. The default goes through `residual`
+    /// (and allocates); the built-in models override it.
+    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
+        let r = self.residual(
+            &DVector::from_column_slice(z),
+            &DVector::from_column_slice(zhat),
+        );
+        out.copy_from_slice(r.as_slice());
+    }
+
     /// `Some(d)` when h(p) = p[..d], i.e. the model is linear in the position and
     /// the exact Kalman update applies; `None` for nonlinear models.
     fn linear_position_dims(&self) -> Option<usize> {
@@ -205,6 +216,19 @@ pub(crate) fn wrapped_residual(
         }
     }
     r
+}
+
+/// z − ẑ into `out` with the components listed in `angular` wrapped to [-pi, pi), without
+/// allocating (see [`MeasurementModel::residual_into`]).
+pub(crate) fn wrapped_residual_into(z: &[f64], zhat: &[f64], angular: &[usize], out: &mut [f64]) {
+    for ((o, a), b) in out.iter_mut().zip(z).zip(zhat) {
+        *o = a - b;
+    }
+    for &i in angular {
+        if let Some(r) = out.get_mut(i) {
+            *r = wrap_angle(*r);
+        }
+    }
 }
 
 /// True when `z` has `dim` finite entries and `noise` is a finite `dim` × `dim` matrix:

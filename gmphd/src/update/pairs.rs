@@ -1,0 +1,218 @@
+//! The pairs of one measurement with the prepared components: gating, log-space weights
+//! and the normaliser, without allocating per pair (buffers live in a [`Scratch`]).
+
+use nalgebra::DMatrix;
+
+use super::component::{Correction, Detectable, Innovation};
+use crate::gaussian::Gaussian;
+use crate::measurement::{Measurement, MeasurementModel};
+
+/// What scoring one measurement needs besides the components.
+pub(super) struct PairRules<'a> {
+    pub(super) sensor: &'a dyn MeasurementModel,
+    /// log κ(z).
+    pub(super) log_clutter: f64,
+    /// γ: the largest squared Mahalanobis distance inside the gate (+∞ without a gate).
+    pub(super) gate: f64,
+    /// Pairs lighter than this are not emitted.
+    pub(super) min_weight: f64,
+}
+
+/// Buffers reused from one measurement to the next (one per worker thread).
+#[derive(Default)]
+pub(super) struct Scratch {
+    residual: Vec<f64>,
+    whitened: Vec<f64>,
+    /// In-gate candidates: component index and log(p_D w q(z)).
+    candidates: Vec<(usize, f64)>,
+    /// Their residuals, `dim` entries each.
+    candidate_residuals: Vec<f64>,
+}
+
+/// The kept pairs of one measurement.
+pub(super) struct MeasurementPairs {
+    /// U(z), see [`UpdateOutcome::association`](super::UpdateOutcome::association).
+    pub(super) association: f64,
+    /// Component index (into the detectable components) and posterior weight.
+    pub(super) pairs: Vec<(usize, f64)>,
+    /// Their residuals z − ẑ, `dim` entries each, in pair order.
+    pub(super) residuals: Vec<f64>,
+}
+
+/// Gates, weighs and keeps the pairs of `measurement` with every detectable component.
+///
+/// A measurement with its own noise covariance needs an innovation factor per pair; it
+/// is computed only for pairs inside the gate's bounding box.
+pub(super) fn score(
+    detectable: &[Detectable<'_>],
+    measurement: &Measurement,
+    rules: &PairRules<'_>,
+    scratch: &mut Scratch,
+) -> MeasurementPairs {
+    gate_candidates(detectable, measurement, rules.sensor, rules.gate, scratch);
+    if scratch.candidates.is_empty()
+        && rules.log_clutter == f64::NEG_INFINITY
+        && rules.gate < f64::INFINITY
+    {
+        // Without clutter the model says z comes from some object: the gate must not
+        // turn it into nothing, so its pairs are weighed as without a gate.
+        gate_candidates(
+            detectable,
+            measurement,
+            rules.sensor,
+            f64::INFINITY,
+            scratch,
+        );
+    }
+    weigh(measurement.z.len(), rules, scratch)
+}
+
+/// Fills `scratch.candidates` (and their residuals) with the pairs of `measurement`
+/// inside the gate `gate`.
+fn gate_candidates(
+    detectable: &[Detectable<'_>],
+    measurement: &Measurement,
+    sensor: &dyn MeasurementModel,
+    gate: f64,
+    scratch: &mut Scratch,
+) {
+    let dim = measurement.z.len();
+    scratch.residual.resize(dim, 0.0);
+    scratch.whitened.resize(dim, 0.0);
+    scratch.candidates.clear();
+    scratch.candidate_residuals.clear();
+    let z = measurement.z.as_slice();
+    for (k, d) in detectable.iter().enumerate() {
+        sensor.residual_into(z, d.projection.predicted_z(), &mut scratch.residual);
+        let log_q = match &measurement.cov {
+            None => {
+                if gate < f64::INFINITY && d.innovation.outside_box(&scratch.residual) {
+                    continue;
+                }
+                d.innovation
+                    .distance_sq(&scratch.residual, &mut scratch.whitened, gate)
+                    .map(|distance| d.innovation.log_density(distance))
+            }
+            Some(noise) => own_noise_log_density(d, noise, gate, scratch),
+        };
+        if let Some(log_q) = log_q {
+            scratch.candidates.push((k, d.log_prior + log_q));
+            scratch
+                .candidate_residuals
+                .extend_from_slice(&scratch.residual);
+        }
+    }
+}
+
+/// The normaliser, U(z) and the kept pairs from the candidates in `scratch`.
+fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPairs {
+    let max = scratch
+        .candidates
+        .iter()
+        .map(|(_, t)| *t)
+        .fold(rules.log_clutter, f64::max);
+    if max == f64::NEG_INFINITY {
+        // No clutter and no component can explain z: it contributes nothing.
+        return MeasurementPairs {
+            association: 0.0,
+            pairs: Vec::new(),
+            residuals: Vec::new(),
+        };
+    }
+    let sum: f64 = (rules.log_clutter - max).exp()
+        + scratch
+            .candidates
+            .iter()
+            .map(|(_, t)| (t - max).exp())
+            .sum::<f64>();
+    let log_normaliser = max + sum.ln();
+    // U(z) = 1 − κ/normaliser, through exp_m1 so that a barely explained measurement
+    // keeps its small U exactly; round-off in the log-sum-exp can put it just below 0.
+    let explained = -(rules.log_clutter - log_normaliser).exp_m1();
+    let mut kept = MeasurementPairs {
+        association: explained.max(0.0),
+        pairs: Vec::new(),
+        residuals: Vec::new(),
+    };
+    for (i, &(k, log_term)) in scratch.candidates.iter().enumerate() {
+        let weight = (log_term - log_normaliser).exp();
+        if weight > 0.0 && weight >= rules.min_weight {
+            kept.pairs.push((k, weight));
+            kept.residuals
+                .extend_from_slice(&scratch.candidate_residuals[i * dim..(i + 1) * dim]);
+        }
+    }
+    kept
+}
+
+/// log q(z) of a pair whose measurement carries its own noise `noise`, or `None` outside
+/// the gate; the residual is in `scratch.residual`.
+fn own_noise_log_density(
+    d: &Detectable<'_>,
+    noise: &DMatrix<f64>,
+    gate: f64,
+    scratch: &mut Scratch,
+) -> Option<f64> {
+    let outside = scratch.residual.iter().enumerate().any(|(i, r)| {
+        let variance = d.projection.z_variance(i) + noise[(i, i)];
+        r.abs() > (gate * variance).sqrt()
+    });
+    if outside {
+        return None;
+    }
+    let innovation = Innovation::new(&d.projection, noise, gate);
+    innovation
+        .distance_sq(&scratch.residual, &mut scratch.whitened, gate)
+        .map(|distance| innovation.log_density(distance))
+}
+
+/// Marks in `needed` the components that have a kept pair with the default noise (their
+/// shared correction must be computed).
+pub(super) fn mark_default_noise_children(
+    scored: &[MeasurementPairs],
+    measurements: &[Measurement],
+    needed: &mut [bool],
+) {
+    for (pairs, measurement) in scored.iter().zip(measurements) {
+        if measurement.cov.is_none() {
+            for &(k, _) in &pairs.pairs {
+                needed[k] = true;
+            }
+        }
+    }
+}
+
+/// The children of one measurement's kept pairs, in pair order. `shared` holds the
+/// default-noise correction of every component marked by [`mark_default_noise_children`].
+pub(super) fn children(
+    pairs: &MeasurementPairs,
+    measurement: &Measurement,
+    detectable: &[Detectable<'_>],
+    shared: &[Option<Correction>],
+    default_noise: &DMatrix<f64>,
+) -> Vec<Gaussian> {
+    let dim = measurement.z.len();
+    pairs
+        .pairs
+        .iter()
+        .enumerate()
+        .map(|(i, &(k, weight))| {
+            let d = &detectable[k];
+            let residual = &pairs.residuals[i * dim..(i + 1) * dim];
+            match (&measurement.cov, &shared[k]) {
+                (None, Some(correction)) => correction.child(d.component, weight, residual),
+                // A measurement with its own noise (rare: estimates of an agent's own
+                // filter) needs a correction of its own for every pair.
+                (own, _) => {
+                    let noise = own.as_ref().unwrap_or(default_noise);
+                    let innovation = Innovation::new(&d.projection, noise, f64::INFINITY);
+                    Correction::new(&d.projection, &innovation, &d.component.cov, noise).child(
+                        d.component,
+                        weight,
+                        residual,
+                    )
+                }
+            }
+        })
+        .collect()
+}
