@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""Reads what `fusion-checker` printed (JSON on stdin) and answers one question for tests/compose/run.sh.
+
+  status-sensor NAME   -> "alive received processed late invalid lost" of one sensor (or "missing")
+  status-sensors       -> one line per sensor: "name alive received processed late invalid lost"
+  status-rejected      -> "undecodable unknown_sensor invalid late" server-wide rejection counters
+  ids-compare BEFORE AFTER
+                       -> compares two `fusion-checker ids` outputs (files): for every true object seen in
+                          both, is its most frequent track id the same? Prints one line per object and
+                          exits 1 when an id changed or fewer than MIN_OBJECTS objects could be compared.
+
+Only the standard library: CI machines have a plain Python 3.
+"""
+
+import json
+import sys
+
+MIN_OBJECTS = 2
+
+
+def load_json(text):
+    # The checker prints nothing but the JSON document on stdout; tolerate stray lines around it.
+    start = min(i for i in (text.find("{"), text.find("[")) if i >= 0)
+    return json.loads(text[start:])
+
+
+def sensor_line(sensor):
+    fields = ("received", "processed", "late", "invalid", "lost")
+    alive = "true" if sensor["alive"] else "false"
+    return " ".join([alive] + [str(sensor[f]) for f in fields])
+
+
+def dominant_ids(ids):
+    """{object id: track id seen most often}."""
+    return {obj: max(tracks.items(), key=lambda kv: kv[1])[0] for obj, tracks in ids.items() if tracks}
+
+
+def main(argv):
+    command = argv[1]
+    if command == "ids-compare":
+        with open(argv[2]) as f:
+            before = dominant_ids(load_json(f.read()))
+        with open(argv[3]) as f:
+            after = dominant_ids(load_json(f.read()))
+        common = sorted(set(before) & set(after), key=int)
+        same = 0
+        for obj in common:
+            verdict = "same" if before[obj] == after[obj] else "CHANGED"
+            same += before[obj] == after[obj]
+            print(f"person {obj}: track id {before[obj]} before, {after[obj]} after ({verdict})")
+        print(f"{same} of {len(common)} people kept their track id")
+        return 0 if common and same == len(common) and len(common) >= MIN_OBJECTS else 1
+    status = load_json(sys.stdin.read())
+    if command == "status-sensor":
+        match = [s for s in status["sensors"] if s["sensor"] == argv[2]]
+        print(sensor_line(match[0]) if match else "missing")
+    elif command == "status-sensors":
+        for s in status["sensors"]:
+            print(s["sensor"], sensor_line(s))
+    elif command == "status-rejected":
+        r = status["rejected"]
+        print(r["undecodable"], r["unknown_sensor"], r["invalid"], r["late"])
+    else:
+        print(f"unknown command {command}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
