@@ -139,6 +139,20 @@ impl GmPhdFilter {
         Ok(self)
     }
 
+    /// Moves the intensity out, leaving it empty until
+    /// [`GmPhdFilter::set_relabelled_intensity`] puts it back.
+    pub(crate) fn take_intensity(&mut self) -> GaussianMixture {
+        std::mem::take(&mut self.intensity)
+    }
+
+    /// Replaces the intensity by a relabelling of itself (labels changed, components split
+    /// into equal-weight copies): every component is already valid, so only the label
+    /// source is advanced.
+    pub(crate) fn set_relabelled_intensity(&mut self, intensity: GaussianMixture) {
+        self.skip_used_labels(&intensity);
+        self.intensity = intensity;
+    }
+
     /// Replaces the intensity (e.g. a known initial prior). Labels already in it
     /// are never handed out again.
     pub fn set_intensity(&mut self, intensity: GaussianMixture) -> Result<(), FilterError> {
@@ -196,12 +210,44 @@ impl GmPhdFilter {
         sensor: &dyn MeasurementModel,
         measurements: &[Measurement],
     ) -> Result<(), FilterError> {
+        self.update_with_floor(sensor, measurements, self.gating.min_weight)
+    }
+
+    /// [`GmPhdFilter::update`] followed at once by [`GmPhdFilter::reduce`]; returns the
+    /// posterior as it was before the reduction.
+    ///
+    /// Since nothing sees the posterior in between, the update does not emit the pairs
+    /// the reduction would prune at once: the gating weight floor is raised to the
+    /// reducer's [`Reducer::prune_threshold`]. The reduced intensity is the same as with
+    /// `update` then `reduce`; the returned posterior lacks only those pairs.
+    pub fn update_and_reduce(
+        &mut self,
+        sensor: &dyn MeasurementModel,
+        measurements: &[Measurement],
+    ) -> Result<GaussianMixture, FilterError> {
+        let floor = self.gating.min_weight.max(self.reducer.prune_threshold());
+        self.update_with_floor(sensor, measurements, floor)?;
+        let posterior = std::mem::take(&mut self.intensity);
+        self.intensity = self.reducer.reduce(&posterior);
+        Ok(posterior)
+    }
+
+    fn update_with_floor(
+        &mut self,
+        sensor: &dyn MeasurementModel,
+        measurements: &[Measurement],
+        min_weight: f64,
+    ) -> Result<(), FilterError> {
+        let gating = Gating {
+            min_weight,
+            ..self.gating
+        };
         let step = UpdateStep {
             motion: self.motion.as_ref(),
             sensor,
             unscented: &self.config.unscented,
         };
-        let outcome = update_gated(&self.intensity, &step, &self.gating, measurements)?;
+        let outcome = update_gated(&self.intensity, &step, &gating, measurements)?;
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.record(
                 self.motion.as_ref(),

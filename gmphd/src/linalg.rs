@@ -31,6 +31,18 @@ pub fn symmetrize(matrix: &DMatrix<f64>) -> DMatrix<f64> {
     (matrix + matrix.transpose()) * 0.5
 }
 
+/// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place.
+pub fn symmetrize_in_place(matrix: &mut DMatrix<f64>) {
+    let n = matrix.nrows().min(matrix.ncols());
+    for c in 0..n {
+        for r in c + 1..n {
+            let mean = (matrix[(r, c)] + matrix[(c, r)]) * 0.5;
+            matrix[(r, c)] = mean;
+            matrix[(c, r)] = mean;
+        }
+    }
+}
+
 /// Checks that every entry of a vector is finite.
 pub fn check_finite_vector(vector: &DVector<f64>, what: &'static str) -> Result<(), FilterError> {
     if vector.iter().all(|x| x.is_finite()) {
@@ -143,6 +155,76 @@ pub fn gaussian_log_density(residual: &DVector<f64>, chol: &Cholesky<f64, Dyn>) 
         .solve_lower_triangular(residual)
         .unwrap_or_else(|| DVector::from_element(residual.len(), f64::INFINITY));
     -0.5 * (whitened.norm_squared() + dim * TAU.ln() + log_determinant(chol))
+}
+
+/// Whether points lie within a squared Mahalanobis distance of a centre, under one fixed
+/// covariance P, for many point–centre pairs (the merge test of Vo & Ma's reduction and
+/// the ancestor test of label inheritance), without allocating per pair.
+///
+/// Each entry alone bounds the distance, dᵀ P⁻¹ d ≥ d_k² / P_kk, so a pair with some
+/// |d_k| > √(threshold · P_kk) is rejected at once; only the others need the Cholesky
+/// factor of P, computed on first use, and a forward substitution that stops as soon as
+/// the partial sum exceeds the threshold.
+#[derive(Debug, Clone)]
+pub(crate) struct MahalanobisGate {
+    threshold: f64,
+    half_width: Vec<f64>,
+    lower: Option<DMatrix<f64>>,
+}
+
+impl MahalanobisGate {
+    /// The gate of squared distance `threshold` under `cov`.
+    pub(crate) fn new(cov: &DMatrix<f64>, threshold: f64) -> Self {
+        Self {
+            threshold,
+            half_width: cov
+                .diagonal()
+                .iter()
+                .map(|v| (threshold * v).sqrt())
+                .collect(),
+            lower: None,
+        }
+    }
+
+    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ threshold, with `factor` giving the lower
+    /// Cholesky factor of P (`cov`) when first needed; `None` when `factor` fails.
+    /// `scratch` is resized to the dimension.
+    pub(crate) fn contains(
+        &mut self,
+        cov: &DMatrix<f64>,
+        point: &DVector<f64>,
+        centre: &DVector<f64>,
+        scratch: &mut Vec<f64>,
+        factor: impl FnOnce(&DMatrix<f64>) -> Option<DMatrix<f64>>,
+    ) -> Option<bool> {
+        let n = self.half_width.len();
+        scratch.resize(n, 0.0);
+        for (k, h) in self.half_width.iter().enumerate() {
+            let d = point[k] - centre[k];
+            if d.abs() > *h {
+                return Some(false);
+            }
+            scratch[k] = d;
+        }
+        if self.lower.is_none() {
+            self.lower = Some(factor(cov)?);
+        }
+        let l = self.lower.as_ref().map_or(&[][..], |l| l.as_slice());
+        let mut sum = 0.0;
+        for i in 0..n {
+            let mut v = scratch[i];
+            for k in 0..i {
+                v -= l[i + k * n] * scratch[k];
+            }
+            v /= l[i + i * n];
+            scratch[i] = v;
+            sum += v * v;
+            if sum > self.threshold || sum.is_nan() {
+                return Some(false);
+            }
+        }
+        Some(true)
+    }
 }
 
 /// log(sum(exp(terms))) without overflow; -inf for an empty or all -inf input.

@@ -7,12 +7,18 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture};
-use crate::linalg::{robust_cholesky, symmetrize};
+use crate::linalg::{robust_cholesky, symmetrize, MahalanobisGate};
 
 /// Keeps the number of Gaussian components bounded between updates.
 pub trait Reducer: Send + Sync + Debug {
     /// The reduced mixture.
     fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture;
+
+    /// Components of at most this weight never survive [`Reducer::reduce`] (0 unless the
+    /// reducer prunes), so an update reduced at once need not emit them.
+    fn prune_threshold(&self) -> f64 {
+        0.0
+    }
 }
 
 /// Vo & Ma's reduction: drop components with weight ≤ T, merge every component
@@ -74,13 +80,17 @@ fn merge(kept: &[&Gaussian], members: &[usize]) -> Gaussian {
     let dim = kept[members[0]].dim();
     let mut mean = DVector::zeros(dim);
     for &i in members {
-        mean += &kept[i].mean * kept[i].weight;
+        mean.axpy(kept[i].weight, &kept[i].mean, 1.0);
     }
     mean /= weight;
     let mut cov = DMatrix::zeros(dim, dim);
+    let mut d = DVector::zeros(dim);
     for &i in members {
-        let d = &kept[i].mean - &mean;
-        cov += (&kept[i].cov + &d * d.transpose()) * kept[i].weight;
+        d.copy_from(&kept[i].mean);
+        d -= &mean;
+        let w = kept[i].weight;
+        cov.zip_apply(&kept[i].cov, |c, p| *c += w * p);
+        cov.ger(kept[i].weight, &d, &d, 1.0);
     }
     cov /= weight;
     Gaussian::new(weight, mean, symmetrize(&cov), kept[members[0]].label)
@@ -96,37 +106,55 @@ impl Reducer for PruneMergeCap {
         order.sort_by(|a, b| heaviest_first(*a, *b));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         // Vo & Ma measure the distance with the candidate's own covariance P_i.
-        let factors: Vec<_> = kept.iter().map(|g| robust_cholesky(&g.cov)).collect();
+        let mut gates: Vec<MahalanobisGate> = kept
+            .iter()
+            .map(|g| MahalanobisGate::new(&g.cov, self.merge_threshold))
+            .collect();
 
-        let mut merged_into = vec![false; kept.len()];
+        // Indices not yet merged, in order; a pivot takes every later one within U.
+        let mut unmerged: Vec<usize> = (0..kept.len()).collect();
+        let mut members = Vec::new();
+        let mut scratch = Vec::new();
         let mut merged: Vec<Gaussian> = Vec::new();
-        for pivot in 0..kept.len() {
-            if merged_into[pivot] {
-                continue;
-            }
-            let mut members = vec![pivot];
-            merged_into[pivot] = true;
-            for i in pivot + 1..kept.len() {
-                if merged_into[i] || kept[i].dim() != kept[pivot].dim() {
-                    continue;
-                }
-                let d = &kept[i].mean - &kept[pivot].mean;
-                let distance = d.dot(&factors[i].solve(&d));
-                if distance <= self.merge_threshold {
+        while let Some((&pivot, rest)) = unmerged.split_first() {
+            let centre = &kept[pivot].mean;
+            members.clear();
+            members.push(pivot);
+            for &i in rest {
+                let (candidate, gate) = (kept[i], &mut gates[i]);
+                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
+                if candidate.dim() == centre.len()
+                    && gate.contains(
+                        &candidate.cov,
+                        &candidate.mean,
+                        centre,
+                        &mut scratch,
+                        robust,
+                    ) == Some(true)
+                {
                     members.push(i);
-                    merged_into[i] = true;
                 }
             }
             merged.push(merge(&kept, &members));
+            // `members` is ascending, like `unmerged`: drop them in one ordered pass.
+            let mut next_member = members.iter().peekable();
+            unmerged.retain(|i| {
+                if next_member.peek() == Some(&i) {
+                    next_member.next();
+                    false
+                } else {
+                    true
+                }
+            });
         }
-        let mut indexed: Vec<(usize, &Gaussian)> = merged.iter().enumerate().collect();
-        indexed.sort_by(|a, b| heaviest_first(*a, *b));
-        let components = indexed
-            .into_iter()
-            .take(self.max_components)
-            .map(|(_, g)| g.clone())
-            .collect();
-        GaussianMixture::from_components(components)
+        let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
+        indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
+        indexed.truncate(self.max_components);
+        GaussianMixture::from_components(indexed.into_iter().map(|(_, g)| g).collect())
+    }
+
+    fn prune_threshold(&self) -> f64 {
+        self.prune_threshold
     }
 }
 

@@ -163,18 +163,15 @@ impl LabelledTracker {
             self.filter.restore(state)?;
         }
         self.filter.predict_to(t)?;
-        self.filter.update(sensor, measurements)?;
+        let before_reduction = self.filter.update_and_reduce(sensor, measurements)?;
         self.started = true;
-        let before_reduction = self.filter.intensity().clone();
-        self.filter.reduce();
         self.relabel(t, &before_reduction)?;
         Ok(self.tracks.update(t, self.filter.intensity())?)
     }
 
     /// Label continuity (Pham ch. 4): assignment from the previous estimates to the current.
     fn relabel(&mut self, t: f64, before_reduction: &GaussianMixture) -> Result<(), TrackerError> {
-        let mut mixture = self.filter.intensity().clone();
-        let estimates = self.extractor.extract(&mixture)?;
+        let estimates = self.extractor.extract(self.filter.intensity())?;
         let inherited =
             inherited_label_sets(before_reduction, &estimates, self.config.merge_threshold)?;
         let motion = self.filter.motion();
@@ -199,8 +196,12 @@ impl LabelledTracker {
             .collect();
         let mut source = LabelSource::starting_at(self.filter.next_label());
         let relabelling = associate_labels(&previous, &current, &mut source)?;
-        apply_relabelling(&mut mixture, &estimates, &relabelling, &mut source)?;
-        self.filter.set_intensity(mixture)?;
+        // Relabelled in place rather than on a copy; `apply_relabelling` checks its input
+        // before it changes anything, so on error the intensity goes back untouched.
+        let mut mixture = self.filter.take_intensity();
+        let relabelled = apply_relabelling(&mut mixture, &estimates, &relabelling, &mut source);
+        self.filter.set_relabelled_intensity(mixture);
+        relabelled?;
         self.previous = estimates
             .iter()
             .zip(&relabelling.labels)

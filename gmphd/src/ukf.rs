@@ -126,20 +126,47 @@ impl SigmaPoints {
         F: Fn(&DVector<f64>) -> DVector<f64>,
         R: Fn(&DVector<f64>, &DVector<f64>) -> DVector<f64>,
     {
+        self.accumulate(f, |a, b, out| out.copy_from(&residual(a, b)))
+    }
+
+    /// [`SigmaPoints::transform`] with a residual that writes a − b into its third
+    /// argument (all of the output's length): apart from the 2n + 1 outputs of `f`, nothing
+    /// is allocated per sigma point.
+    pub fn transform_into<F, R>(&self, f: F, residual_into: R) -> UnscentedResult
+    where
+        F: Fn(&DVector<f64>) -> DVector<f64>,
+        R: Fn(&[f64], &[f64], &mut [f64]),
+    {
+        self.accumulate(f, |a, b, out| {
+            residual_into(a.as_slice(), b.as_slice(), out.as_mut_slice())
+        })
+    }
+
+    /// The weighted sums of both transforms, with rank-one updates into the results.
+    fn accumulate<F, R>(&self, f: F, residual: R) -> UnscentedResult
+    where
+        F: Fn(&DVector<f64>) -> DVector<f64>,
+        R: Fn(&DVector<f64>, &DVector<f64>, &mut DVector<f64>),
+    {
         let outputs: Vec<DVector<f64>> = self.points.iter().map(&f).collect();
         let anchor = &outputs[0];
         let mut mean = anchor.clone();
+        let mut dy = DVector::zeros(mean.len());
         for (y, w) in outputs.iter().zip(&self.mean_weights).skip(1) {
-            mean += residual(y, anchor) * *w;
+            residual(y, anchor, &mut dy);
+            mean.axpy(*w, &dy, 1.0);
         }
         let x_mean = &self.points[0];
         let (nx, ny) = (x_mean.len(), mean.len());
         let mut cov = DMatrix::zeros(ny, ny);
         let mut cross_cov = DMatrix::zeros(nx, ny);
+        let mut dx = DVector::zeros(nx);
         for ((x, y), w) in self.points.iter().zip(&outputs).zip(&self.cov_weights) {
-            let dy = residual(y, &mean);
-            cov += &dy * dy.transpose() * *w;
-            cross_cov += (x - x_mean) * dy.transpose() * *w;
+            residual(y, &mean, &mut dy);
+            dx.copy_from(x);
+            dx -= x_mean;
+            cov.ger(*w, &dy, &dy, 1.0);
+            cross_cov.ger(*w, &dx, &dy, 1.0);
         }
         UnscentedResult {
             mean,

@@ -4,6 +4,8 @@
 use super::{LabelError, LabelSet, Relabelling};
 use crate::extract::Estimate;
 use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
+use crate::linalg::MahalanobisGate;
+use nalgebra::DMatrix;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The inherited label set of each estimate, derived from the mixture *before*
@@ -18,6 +20,9 @@ use std::collections::{BTreeMap, BTreeSet};
 /// mean in place of the (unknown) heaviest member's mean makes this approximate at
 /// the cluster's edge; a reducer that records merges can build exact sets with
 /// [`LabelSet::from_iter`] instead.
+///
+/// A covariance that is not positive definite is an error when it has a non-positive
+/// variance, or when its component is close enough to an estimate to be tested.
 pub fn inherited_label_sets(
     pre_reduction: &GaussianMixture,
     estimates: &[Estimate],
@@ -29,32 +34,45 @@ pub fn inherited_label_sets(
             .map(|c| &c.mean)
             .chain(estimates.iter().map(|e| &e.mean)),
     )?;
-    let factors = pre_reduction
+    // A non-positive variance rules out a positive definite covariance wherever the
+    // component lies; other defects are found when a component is close enough to an
+    // estimate to need its factor.
+    if let Some(bad) = pre_reduction
         .iter()
-        .map(|c| {
-            c.cov
-                .clone()
-                .cholesky()
-                .ok_or(LabelError::SingularCovariance(c.label.0))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(estimates
+        .find(|c| c.cov.diagonal().iter().any(|v| *v <= 0.0 || v.is_nan()))
+    {
+        return Err(LabelError::SingularCovariance(bad.label.0));
+    }
+    let mut gates: Vec<MahalanobisGate> = pre_reduction
+        .iter()
+        .map(|c| MahalanobisGate::new(&c.cov, merge_threshold))
+        .collect();
+    let mut scratch = Vec::new();
+    estimates
         .iter()
         .map(|estimate| {
             // Weights come from the contributing components only, so that the
             // fallback label (the heaviest in the set) is Pham's "largest weight
             // Gaussian contributing to this component".
             let mut set = LabelSet::single(estimate.label, 0.0);
-            for (component, factor) in pre_reduction.iter().zip(&factors) {
-                let diff = &component.mean - &estimate.mean;
-                let mahalanobis_sq = diff.dot(&factor.solve(&diff));
-                if mahalanobis_sq <= merge_threshold {
-                    set.insert(component.label, component.weight);
+            for (component, gate) in pre_reduction.iter().zip(&mut gates) {
+                let strict = |cov: &DMatrix<f64>| cov.clone().cholesky().map(|c| c.unpack());
+                let close = gate.contains(
+                    &component.cov,
+                    &component.mean,
+                    &estimate.mean,
+                    &mut scratch,
+                    strict,
+                );
+                match close {
+                    None => return Err(LabelError::SingularCovariance(component.label.0)),
+                    Some(true) => set.insert(component.label, component.weight),
+                    Some(false) => {}
                 }
             }
-            set
+            Ok(set)
         })
-        .collect())
+        .collect()
 }
 
 /// Writes the labels chosen by [`super::associate_labels`] back onto the mixture

@@ -4,7 +4,7 @@ use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::{check_dt, check_gaussian_dims, check_noise, check_spatial_dims, padded, MotionModel};
 use crate::error::FilterError;
-use crate::linalg::symmetrize;
+use crate::linalg::symmetrize_in_place;
 
 /// State [p (dims), v (dims)], p' = p + dt v, v' = v, with per-axis process noise
 /// Q(dt) = q · [[dt³/3, dt²/2], [dt²/2, dt]], q = accel_noise_std².
@@ -53,16 +53,21 @@ impl ConstantVelocity {
 
     /// Process noise covariance Q(dt).
     pub fn process_noise(&self, dt: f64) -> DMatrix<f64> {
+        let mut noise = DMatrix::zeros(2 * self.dims, 2 * self.dims);
+        self.add_process_noise(&mut noise, dt);
+        noise
+    }
+
+    /// Adds Q(dt) to `cov` in place.
+    fn add_process_noise(&self, cov: &mut DMatrix<f64>, dt: f64) {
         let d = self.dims;
         let q = self.accel_noise_std * self.accel_noise_std;
-        let mut noise = DMatrix::zeros(2 * d, 2 * d);
         for i in 0..d {
-            noise[(i, i)] = q * dt.powi(3) / 3.0;
-            noise[(i, d + i)] = q * dt * dt / 2.0;
-            noise[(d + i, i)] = q * dt * dt / 2.0;
-            noise[(d + i, d + i)] = q * dt;
+            cov[(i, i)] += q * dt.powi(3) / 3.0;
+            cov[(i, d + i)] += q * dt * dt / 2.0;
+            cov[(d + i, i)] += q * dt * dt / 2.0;
+            cov[(d + i, d + i)] += q * dt;
         }
-        noise
     }
 }
 
@@ -91,9 +96,26 @@ impl MotionModel for ConstantVelocity {
     ) -> Result<(DVector<f64>, DMatrix<f64>), FilterError> {
         check_dt(dt)?;
         check_gaussian_dims(mean, cov, self.state_dim())?;
-        let f = self.transition(dt);
-        let predicted_cov = &f * cov * f.transpose() + self.process_noise(dt);
-        Ok((&f * mean, symmetrize(&predicted_cov)))
+        // F = [I dt·I; 0 I]: F P Fᵀ adds dt × the velocity rows to the position rows, then
+        // dt × the velocity columns to the position columns — written out, so that a
+        // prediction costs one copy of the mean and of the covariance and no products.
+        let d = self.dims;
+        let mut predicted_mean = mean.clone();
+        let mut predicted_cov = cov.clone();
+        for i in 0..d {
+            predicted_mean[i] += dt * mean[d + i];
+            for c in 0..2 * d {
+                predicted_cov[(i, c)] += dt * predicted_cov[(d + i, c)];
+            }
+        }
+        for j in 0..d {
+            for r in 0..2 * d {
+                predicted_cov[(r, j)] += dt * predicted_cov[(r, d + j)];
+            }
+        }
+        self.add_process_noise(&mut predicted_cov, dt);
+        symmetrize_in_place(&mut predicted_cov);
+        Ok((predicted_mean, predicted_cov))
     }
 }
 

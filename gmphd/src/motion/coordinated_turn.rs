@@ -111,7 +111,14 @@ impl MotionModel for CoordinatedTurn {
             return Ok((mean.clone(), cov.clone()));
         }
         let sigma = SigmaPoints::new(mean, cov, &self.unscented)?;
-        let out = sigma.transform(|x| Self::transition(x, dt), |a, b| a - b);
+        let out = sigma.transform_into(
+            |x| Self::transition(x, dt),
+            |a, b, out| {
+                for ((o, a), b) in out.iter_mut().zip(a).zip(b) {
+                    *o = a - b;
+                }
+            },
+        );
         Ok((out.mean, symmetrize(&(out.cov + self.process_noise(dt)))))
     }
 }

@@ -42,9 +42,9 @@ impl Projection {
         step: &UpdateStep<'_>,
     ) -> Result<Self, FilterError> {
         let sigma = SigmaPoints::new(&component.mean, &component.cov, step.unscented)?;
-        let out = sigma.transform(
+        let out = sigma.transform_into(
             |x| step.sensor.measure(&step.motion.position(x)),
-            |a, b| step.sensor.residual(a, b),
+            |a, b, out| step.sensor.residual_into(a, b, out),
         );
         Ok(Self {
             predicted_z: out.mean,
