@@ -31,10 +31,7 @@ pub(crate) enum Inbound {
         format: Result<WireFormat, String>,
     },
     /// A liveliness token appeared or went away.
-    Alive {
-        sensor: SensorId,
-        alive: bool,
-    },
+    Alive { sensor: SensorId, alive: bool },
     /// Drain, checkpoint and stop.
     Shutdown,
 }
