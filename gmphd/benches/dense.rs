@@ -20,7 +20,7 @@
 
 mod support;
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use gmphd::birth::{BirthTiming, GridBirth, GridBirthConfig};
@@ -34,6 +34,7 @@ use nalgebra::{Matrix3, Matrix3x4, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use support::clock::BenchClock;
 
 const VOLUME_MIN: [f64; 3] = [0.0, 0.0, 0.0];
 const VOLUME_MAX: [f64; 3] = [40.0, 40.0, 10.0];
@@ -204,7 +205,8 @@ fn sets(
     out
 }
 
-fn bench_dense_step(c: &mut Criterion) {
+fn bench_dense_step(c: &mut Criterion<BenchClock>) {
+    let clock = BenchClock::from_env();
     let sensors = sensors();
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
     let mut walkers = Walkers::new(&mut rng);
@@ -227,11 +229,11 @@ fn bench_dense_step(c: &mut Criterion) {
             for _ in 0..iters {
                 let mut tracker = self::tracker();
                 tracker.restore(checkpoint.clone()).unwrap();
-                let start = Instant::now();
+                let start = clock.now();
                 for (t, index, set) in &timed {
                     tracker.step(*t, sensors[*index].as_ref(), set).unwrap();
                 }
-                total += start.elapsed();
+                total += clock.since(&start);
             }
             total / timed.len() as u32
         })
@@ -241,6 +243,7 @@ fn bench_dense_step(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default()
+        .with_measurement(BenchClock::from_env())
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));

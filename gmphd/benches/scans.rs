@@ -22,7 +22,7 @@
 mod support;
 
 use std::f64::consts::PI;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use gmphd::{
@@ -33,6 +33,7 @@ use gmphd::{
 use nalgebra::{DMatrix, DVector, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use support::clock::BenchClock;
 
 const SCANS: usize = 100;
 
@@ -202,7 +203,8 @@ fn per_scan(iters: u64, mut run: impl FnMut() -> Duration) -> Duration {
     (0..iters).map(|_| run()).sum::<Duration>() / SCANS as u32
 }
 
-fn bench_scans(c: &mut Criterion) {
+fn bench_scans(c: &mut Criterion<BenchClock>) {
+    let clock = BenchClock::from_env();
     let mut group = c.benchmark_group("scan");
     for demo in demos() {
         let sensor = demo.sensor.as_ref();
@@ -210,13 +212,13 @@ fn bench_scans(c: &mut Criterion) {
             b.iter_custom(|iters| {
                 per_scan(iters, || {
                     let mut filter = (demo.fresh_filter)();
-                    let start = Instant::now();
+                    let start = clock.now();
                     for (index, set) in demo.scans.iter().enumerate() {
                         filter.predict_to((index + 1) as f64).unwrap();
                         filter.update(sensor, set).unwrap();
                         filter.reduce();
                     }
-                    start.elapsed()
+                    clock.since(&start)
                 })
             })
         });
@@ -228,11 +230,11 @@ fn bench_scans(c: &mut Criterion) {
                         ..TrackerConfig::default()
                     };
                     let mut tracker = LabelledTracker::new((demo.fresh_filter)(), config).unwrap();
-                    let start = Instant::now();
+                    let start = clock.now();
                     for (index, set) in demo.scans.iter().enumerate() {
                         tracker.step((index + 1) as f64, sensor, set).unwrap();
                     }
-                    start.elapsed()
+                    clock.since(&start)
                 })
             })
         });
@@ -243,6 +245,7 @@ fn bench_scans(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default()
+        .with_measurement(BenchClock::from_env())
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));

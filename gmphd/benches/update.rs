@@ -10,23 +10,31 @@
 //! update of 100 components by 99 measurements of a coarse (σ = 0.5 m) position
 //! sensor (mostly pruning).
 //!
+//! The update grid runs with the filter's default gating ([`Gating::default`]: 99.99 %
+//! χ² gate, weight floor 1e-9); `update_exact` repeats two cells of it without gating
+//! (every pair emitted, as before gating existed), to show what gating saves.
+//!
 //! Inputs are seeded; sample sizes are small so that `cargo bench -p gmphd`
-//! finishes in a few minutes.
+//! finishes in a few minutes. `GMPHD_BENCH_CLOCK=cpu` measures process CPU time instead
+//! of wall time (see `support/clock.rs`).
+
+mod support;
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use gmphd::reduce::Reducer;
-use gmphd::update::{update_intensity, UpdateStep};
+use gmphd::update::{update_gated, update_intensity, UpdateStep};
 use gmphd::{
-    ConstantVelocity, Detection, Gaussian, GaussianMixture, Label, Measurement, MeasurementModel,
-    MicPair, PinholeCamera, PositionSensor, PruneMergeCap, UnscentedParams,
+    ConstantVelocity, Detection, Gating, Gaussian, GaussianMixture, Label, Measurement,
+    MeasurementModel, MicPair, PinholeCamera, PositionSensor, PruneMergeCap, UnscentedParams,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x4, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use support::clock::BenchClock;
 
 const COMPONENT_COUNTS: [usize; 3] = [30, 100, 1000];
 const MEASUREMENT_COUNTS: [usize; 3] = [10, 50, 200];
@@ -114,28 +122,44 @@ fn sensors() -> Vec<(&'static str, Box<dyn MeasurementModel>)> {
     ]
 }
 
-fn bench_updates(c: &mut Criterion) {
+/// The cells of the grid that `update_exact` repeats without gating.
+const EXACT_CELLS: [(usize, usize); 2] = [(100, 50), (1000, 200)];
+
+fn bench_updates(c: &mut Criterion<BenchClock>) {
     let motion = ConstantVelocity::new(3, 2.0).unwrap();
     let unscented = UnscentedParams::default();
+    let gating = Gating::default();
     for (name, sensor) in sensors() {
-        let mut group = c.benchmark_group(format!("update/{name}"));
-        for j in COMPONENT_COUNTS {
-            for z in MEASUREMENT_COUNTS {
-                let mut rng = ChaCha8Rng::seed_from_u64((j * 1000 + z) as u64);
-                let predicted = predicted_mixture(j, &mut rng);
-                let set = measurements(sensor.as_ref(), z, &mut rng);
-                let step = UpdateStep {
-                    motion: &motion,
-                    sensor: sensor.as_ref(),
-                    unscented: &unscented,
-                };
-                let id = BenchmarkId::new(format!("J{j}"), format!("Z{z}"));
-                group.bench_with_input(id, &(predicted, set), |b, (predicted, set)| {
-                    b.iter(|| update_intensity(black_box(predicted), &step, black_box(set)))
-                });
+        for (kind, exact) in [("update", false), ("update_exact", true)] {
+            let mut group = c.benchmark_group(format!("{kind}/{name}"));
+            for j in COMPONENT_COUNTS {
+                for z in MEASUREMENT_COUNTS {
+                    if exact && !EXACT_CELLS.contains(&(j, z)) {
+                        continue;
+                    }
+                    let mut rng = ChaCha8Rng::seed_from_u64((j * 1000 + z) as u64);
+                    let predicted = predicted_mixture(j, &mut rng);
+                    let set = measurements(sensor.as_ref(), z, &mut rng);
+                    let step = UpdateStep {
+                        motion: &motion,
+                        sensor: sensor.as_ref(),
+                        unscented: &unscented,
+                    };
+                    let id = BenchmarkId::new(format!("J{j}"), format!("Z{z}"));
+                    group.bench_with_input(id, &(predicted, set), |b, (predicted, set)| {
+                        b.iter(|| {
+                            if exact {
+                                update_intensity(black_box(predicted), &step, black_box(set))
+                            } else {
+                                update_gated(black_box(predicted), &step, &gating, set)
+                                    .map(|outcome| outcome.posterior)
+                            }
+                        })
+                    });
+                }
             }
+            group.finish();
         }
-        group.finish();
     }
 }
 
@@ -160,7 +184,7 @@ fn clustered_mixture(rng: &mut ChaCha8Rng) -> GaussianMixture {
     GaussianMixture::from_components(components)
 }
 
-fn bench_reduction(c: &mut Criterion) {
+fn bench_reduction(c: &mut Criterion<BenchClock>) {
     let reducer = PruneMergeCap::new(1e-5, 4.0, 100).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(10_000);
     let clustered = clustered_mixture(&mut rng);
@@ -196,6 +220,7 @@ fn bench_reduction(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default()
+        .with_measurement(BenchClock::from_env())
         .sample_size(10)
         .warm_up_time(Duration::from_millis(200))
         .measurement_time(Duration::from_secs(1));

@@ -162,49 +162,34 @@ pub fn gaussian_log_density(residual: &DVector<f64>, chol: &Cholesky<f64, Dyn>) 
 /// the ancestor test of label inheritance), without allocating per pair.
 ///
 /// Each entry alone bounds the distance, dᵀ P⁻¹ d ≥ d_k² / P_kk, so a pair with some
-/// |d_k| > √(threshold · P_kk) is rejected at once; only the others need the Cholesky
-/// factor of P, computed on first use, and a forward substitution that stops as soon as
-/// the partial sum exceeds the threshold.
-#[derive(Debug, Clone)]
+/// d_k² > threshold · P_kk is rejected at once; only the others need the Cholesky factor
+/// of P, computed on first use, and a forward substitution that stops as soon as the
+/// partial sum exceeds the threshold.
+#[derive(Debug, Clone, Default)]
 pub(crate) struct MahalanobisGate {
-    threshold: f64,
-    half_width: Vec<f64>,
     lower: Option<DMatrix<f64>>,
 }
 
 impl MahalanobisGate {
-    /// The gate of squared distance `threshold` under `cov`.
-    pub(crate) fn new(cov: &DMatrix<f64>, threshold: f64) -> Self {
-        Self {
-            threshold,
-            half_width: cov
-                .diagonal()
-                .iter()
-                .map(|v| (threshold * v).sqrt())
-                .collect(),
-            lower: None,
-        }
-    }
-
-    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ threshold, with `factor` giving the lower
-    /// Cholesky factor of P (`cov`) when first needed; `None` when `factor` fails.
-    /// `scratch` is resized to the dimension.
+    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`, with `factor`
+    /// giving the lower Cholesky factor of P when first needed; `None` when `factor`
+    /// fails. `scratch` is resized to the dimension.
     pub(crate) fn contains(
         &mut self,
         cov: &DMatrix<f64>,
         point: &DVector<f64>,
         centre: &DVector<f64>,
+        threshold: f64,
         scratch: &mut Vec<f64>,
         factor: impl FnOnce(&DMatrix<f64>) -> Option<DMatrix<f64>>,
     ) -> Option<bool> {
-        let n = self.half_width.len();
+        let n = cov.nrows();
         scratch.resize(n, 0.0);
-        for (k, h) in self.half_width.iter().enumerate() {
-            let d = point[k] - centre[k];
-            if d.abs() > *h {
+        for (k, d) in scratch.iter_mut().enumerate() {
+            *d = point[k] - centre[k];
+            if *d * *d > threshold * cov[(k, k)] {
                 return Some(false);
             }
-            scratch[k] = d;
         }
         if self.lower.is_none() {
             self.lower = Some(factor(cov)?);
@@ -219,7 +204,7 @@ impl MahalanobisGate {
             v /= l[i + i * n];
             scratch[i] = v;
             sum += v * v;
-            if sum > self.threshold || sum.is_nan() {
+            if sum > threshold || sum.is_nan() {
                 return Some(false);
             }
         }

@@ -106,10 +106,7 @@ impl Reducer for PruneMergeCap {
         order.sort_by(|a, b| heaviest_first(*a, *b));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         // Vo & Ma measure the distance with the candidate's own covariance P_i.
-        let mut gates: Vec<MahalanobisGate> = kept
-            .iter()
-            .map(|g| MahalanobisGate::new(&g.cov, self.merge_threshold))
-            .collect();
+        let mut gates = vec![MahalanobisGate::default(); kept.len()];
 
         // Indices not yet merged, in order; a pivot takes every later one within U.
         let mut unmerged: Vec<usize> = (0..kept.len()).collect();
@@ -128,6 +125,7 @@ impl Reducer for PruneMergeCap {
                         &candidate.cov,
                         &candidate.mean,
                         centre,
+                        self.merge_threshold,
                         &mut scratch,
                         robust,
                     ) == Some(true)

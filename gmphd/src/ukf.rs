@@ -57,6 +57,40 @@ impl UnscentedParams {
     }
 }
 
+/// The scalars of the scaled transform for one state size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct UnscentedWeights {
+    /// n + λ: the sigma points are m ± the columns of √((n + λ) P).
+    pub(crate) spread: f64,
+    /// Mean weight of the centre point, λ / (n + λ).
+    pub(crate) centre_mean: f64,
+    /// Covariance weight of the centre point, λ / (n + λ) + 1 − α² + β.
+    pub(crate) centre_cov: f64,
+    /// Mean and covariance weight of each other point, 1 / (2(n + λ)).
+    pub(crate) outer: f64,
+}
+
+impl UnscentedParams {
+    /// The weights for a state of size `n`; an error when n + λ ≤ 0.
+    pub(crate) fn weights(&self, n: usize) -> Result<UnscentedWeights, FilterError> {
+        let lambda = self.lambda(n);
+        let spread = n as f64 + lambda;
+        if spread.is_nan() || spread <= 0.0 {
+            return Err(invalid(
+                "unscented parameters",
+                format!("n + lambda = {spread} must be > 0 for a state of size {n}"),
+            ));
+        }
+        let centre_mean = lambda / spread;
+        Ok(UnscentedWeights {
+            spread,
+            centre_mean,
+            centre_cov: centre_mean + 1.0 - self.alpha * self.alpha + self.beta,
+            outer: 1.0 / (2.0 * spread),
+        })
+    }
+}
+
 /// Sigma points of a Gaussian with their mean and covariance weights.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SigmaPoints {
@@ -84,14 +118,8 @@ impl SigmaPoints {
                 found: cov.nrows(),
             });
         }
-        let lambda = params.lambda(n);
-        let spread = n as f64 + lambda;
-        if spread.is_nan() || spread <= 0.0 {
-            return Err(invalid(
-                "unscented parameters",
-                format!("n + lambda = {spread} must be > 0 for a state of size {n}"),
-            ));
-        }
+        let weights = params.weights(n)?;
+        let spread = weights.spread;
         let root = robust_cholesky(&(cov * spread)).unpack();
         let mut points = Vec::with_capacity(2 * n + 1);
         points.push(mean.clone());
@@ -101,12 +129,10 @@ impl SigmaPoints {
         for i in 0..n {
             points.push(mean - root.column(i));
         }
-        let outer = 1.0 / (2.0 * spread);
-        let centre = lambda / spread;
-        let mut mean_weights = vec![outer; 2 * n + 1];
-        mean_weights[0] = centre;
+        let mut mean_weights = vec![weights.outer; 2 * n + 1];
+        mean_weights[0] = weights.centre_mean;
         let mut cov_weights = mean_weights.clone();
-        cov_weights[0] = centre + 1.0 - params.alpha * params.alpha + params.beta;
+        cov_weights[0] = weights.centre_cov;
         Ok(Self {
             points,
             mean_weights,

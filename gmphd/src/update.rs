@@ -24,6 +24,7 @@
 
 mod component;
 mod pairs;
+mod unscented;
 
 use rayon::prelude::*;
 
@@ -35,6 +36,7 @@ use crate::motion::MotionModel;
 use crate::ukf::UnscentedParams;
 use component::{Correction, Detectable, Innovation, Projection};
 use pairs::{MeasurementPairs, PairRules, Scratch};
+use unscented::UnscentedScratch;
 
 /// Fewest component–measurement pairs (or unscented components × 16) for which the update
 /// runs in parallel: below it, waking a second thread costs more than it saves.
@@ -131,11 +133,13 @@ pub fn update_gated<'p>(
     }
 
     let unscented_work = if linear_dims.is_some() { 1 } else { 16 };
-    let prepare = |seen: &(&'p Gaussian, f64)| -> Result<Detectable<'p>, FilterError> {
+    let prepare = |scratch: &mut UnscentedScratch,
+                   seen: &(&'p Gaussian, f64)|
+     -> Result<Detectable<'p>, FilterError> {
         let (component, log_prior) = *seen;
         let projection = match linear_dims {
             Some(d) => Projection::linear(component, d),
-            None => Projection::unscented(component, step)?,
+            None => Projection::unscented(component, step, scratch)?,
         };
         let innovation = Innovation::new(&projection, &noise, gate);
         Ok(Detectable {
@@ -147,11 +151,12 @@ pub fn update_gated<'p>(
     };
     let detectable: Vec<Detectable<'_>> = if parallel(seen.len() * unscented_work) {
         seen.par_iter()
-            .map(prepare)
+            .map_init(UnscentedScratch::default, prepare)
             .collect::<Result<_, FilterError>>()?
     } else {
+        let mut scratch = UnscentedScratch::default();
         seen.iter()
-            .map(prepare)
+            .map(|s| prepare(&mut scratch, s))
             .collect::<Result<_, FilterError>>()?
     };
 

@@ -1,5 +1,9 @@
-//! Measurement simulation shared by the scenario benchmarks (a copy of the integration
-//! tests' `simulate_set`, so that benchmarks and accuracy tests see the same kind of sets).
+//! Shared by the benchmarks: the clock they measure with, and measurement simulation (a
+//! copy of the integration tests' `simulate_set`, so that benchmarks and accuracy tests see
+//! the same kind of sets).
+#![allow(dead_code)]
+
+pub mod clock;
 
 use gmphd::{Measurement, MeasurementModel};
 use nalgebra::{DVector, Vector3};

@@ -43,10 +43,7 @@ pub fn inherited_label_sets(
     {
         return Err(LabelError::SingularCovariance(bad.label.0));
     }
-    let mut gates: Vec<MahalanobisGate> = pre_reduction
-        .iter()
-        .map(|c| MahalanobisGate::new(&c.cov, merge_threshold))
-        .collect();
+    let mut gates = vec![MahalanobisGate::default(); pre_reduction.len()];
     let mut scratch = Vec::new();
     estimates
         .iter()
@@ -61,6 +58,7 @@ pub fn inherited_label_sets(
                     &component.cov,
                     &component.mean,
                     &estimate.mean,
+                    merge_threshold,
                     &mut scratch,
                     strict,
                 );

@@ -57,9 +57,16 @@ impl MeasurementModel for BearingRange {
     }
 
     fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
+        let mut z = DVector::zeros(2);
+        self.measure_into(p, z.as_mut_slice());
+        z
+    }
+
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         let dx = p.x - self.position.x;
         let dy = p.y - self.position.y;
-        DVector::from_vec(vec![dy.atan2(dx), dx.hypot(dy)])
+        out[0] = dy.atan2(dx);
+        out[1] = dx.hypot(dy);
     }
 
     fn noise_cov(&self) -> DMatrix<f64> {

@@ -76,13 +76,20 @@ impl MeasurementModel for PinholeCamera {
     }
 
     fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
+        let mut z = DVector::zeros(2);
+        self.measure_into(p, z.as_mut_slice());
+        z
+    }
+
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         let h = self.homogeneous(p);
         let w = if h.z.abs() < MIN_HOMOGENEOUS_SCALE {
             MIN_HOMOGENEOUS_SCALE.copysign(h.z)
         } else {
             h.z
         };
-        DVector::from_vec(vec![h.x / w, h.y / w])
+        out[0] = h.x / w;
+        out[1] = h.y / w;
     }
 
     fn noise_cov(&self) -> DMatrix<f64> {

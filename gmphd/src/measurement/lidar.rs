@@ -81,9 +81,15 @@ impl MeasurementModel for Lidar {
     }
 
     fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
+        let mut z = DVector::zeros(3);
+        self.measure_into(p, z.as_mut_slice());
+        z
+    }
+
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         let s = self.to_sensor_frame(p);
         let horizontal = s.x.hypot(s.y);
-        DVector::from_vec(vec![s.norm(), s.y.atan2(s.x), s.z.atan2(horizontal)])
+        out.copy_from_slice(&[s.norm(), s.y.atan2(s.x), s.z.atan2(horizontal)]);
     }
 
     fn noise_cov(&self) -> DMatrix<f64> {

@@ -60,8 +60,13 @@ impl MeasurementModel for MicPair {
     }
 
     fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        let tau = ((p - self.m2).norm() - (p - self.m1).norm()) / self.speed_of_sound;
-        DVector::from_element(1, tau)
+        let mut z = DVector::zeros(1);
+        self.measure_into(p, z.as_mut_slice());
+        z
+    }
+
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
+        out[0] = ((p - self.m2).norm() - (p - self.m1).norm()) / self.speed_of_sound;
     }
 
     fn noise_cov(&self) -> DMatrix<f64> {

@@ -89,6 +89,13 @@ pub trait MeasurementModel: Send + Sync + Debug {
     /// Noise-free measurement h(p) of a 3-D world point.
     fn measure(&self, p: &Vector3<f64>) -> DVector<f64>;
 
+    /// [`MeasurementModel::measure`] written into `out` (length `dim()`), for the
+    /// unscented update, which must not allocate per sigma point. The default goes
+    /// through `measure` (and allocates); the built-in models override it.
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
+        out.copy_from_slice(self.measure(p).as_slice());
+    }
+
     /// Measurement noise covariance R (dim × dim).
     fn noise_cov(&self) -> DMatrix<f64>;
 

@@ -88,6 +88,10 @@ impl MeasurementModel for PositionSensor {
         DVector::from_column_slice(&p.as_slice()[..self.dims])
     }
 
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
+        out.copy_from_slice(&p.as_slice()[..self.dims]);
+    }
+
     fn noise_cov(&self) -> DMatrix<f64> {
         self.noise_cov.clone()
     }

@@ -6,11 +6,11 @@
 
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
+use super::unscented::{self, UnscentedScratch};
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
 use crate::linalg::{log_determinant, nearest_spd, robust_cholesky};
-use crate::ukf::SigmaPoints;
 
 /// ln 2π.
 const LN_TAU: f64 = 1.837_877_066_409_345_5;
@@ -40,12 +40,9 @@ impl Projection {
     pub(super) fn unscented(
         component: &Gaussian,
         step: &UpdateStep<'_>,
+        scratch: &mut UnscentedScratch,
     ) -> Result<Self, FilterError> {
-        let sigma = SigmaPoints::new(&component.mean, &component.cov, step.unscented)?;
-        let out = sigma.transform_into(
-            |x| step.sensor.measure(&step.motion.position(x)),
-            |a, b, out| step.sensor.residual_into(a, b, out),
-        );
+        let out = unscented::project(component, step, scratch)?;
         Ok(Self {
             predicted_z: out.mean,
             z_cov: out.cov,

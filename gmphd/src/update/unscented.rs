@@ -1,0 +1,184 @@
+//! The unscented transform of one component into a sensor's measurement space, as
+//! [`SigmaPoints::transform`](crate::ukf::SigmaPoints::transform) computes it, but with its
+//! buffers kept in an [`UnscentedScratch`] that one worker thread reuses for every
+//! component: besides the three results nothing is allocated per component.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::UpdateStep;
+use crate::error::FilterError;
+use crate::gaussian::Gaussian;
+use crate::linalg::robust_cholesky;
+
+/// Reusable buffers of the transform.
+#[derive(Default)]
+pub(super) struct UnscentedScratch {
+    /// Lower Cholesky factor of (n + λ) P, column-major n × n.
+    root: Vec<f64>,
+    /// One sigma point.
+    point: DVector<f64>,
+    /// The 2n + 1 transformed points, m entries each.
+    outputs: Vec<f64>,
+    residual: Vec<f64>,
+}
+
+/// Predicted measurement, its covariance (noise not included) and the cross-covariance
+/// with the state.
+pub(super) struct UnscentedMoments {
+    pub(super) mean: DVector<f64>,
+    pub(super) cov: DMatrix<f64>,
+    pub(super) cross_cov: DMatrix<f64>,
+}
+
+/// In-place Cholesky factorisation of the lower triangle of `scale` · `cov` into `lower`
+/// (column-major); false when the matrix is not positive definite.
+fn scaled_cholesky(cov: &DMatrix<f64>, scale: f64, lower: &mut [f64]) -> bool {
+    let n = cov.nrows();
+    for j in 0..n {
+        let mut diagonal = scale * cov[(j, j)];
+        for k in 0..j {
+            diagonal -= lower[j + k * n] * lower[j + k * n];
+        }
+        if diagonal <= 0.0 || diagonal.is_nan() {
+            return false;
+        }
+        let l_jj = diagonal.sqrt();
+        lower[j + j * n] = l_jj;
+        for i in j + 1..n {
+            let mut v = scale * cov[(i, j)];
+            for k in 0..j {
+                v -= lower[i + k * n] * lower[j + k * n];
+            }
+            lower[i + j * n] = v / l_jj;
+        }
+        for i in 0..j {
+            lower[i + j * n] = 0.0;
+        }
+    }
+    true
+}
+
+/// The unscented moments of `component` seen by `step.sensor` through `step.motion`.
+pub(super) fn project(
+    component: &Gaussian,
+    step: &UpdateStep<'_>,
+    scratch: &mut UnscentedScratch,
+) -> Result<UnscentedMoments, FilterError> {
+    let (n, m) = (component.dim(), step.sensor.dim());
+    let weights = step.unscented.weights(n)?;
+    scratch.root.resize(n * n, 0.0);
+    if !scaled_cholesky(&component.cov, weights.spread, &mut scratch.root) {
+        // Repair a covariance made slightly indefinite by round-off, as SigmaPoints does.
+        let root = robust_cholesky(&(&component.cov * weights.spread)).unpack();
+        scratch.root.copy_from_slice(root.as_slice());
+    }
+    let points = 2 * n + 1;
+    scratch.outputs.resize(points * m, 0.0);
+    scratch.residual.resize(m, 0.0);
+    scratch.point.clone_from(&component.mean);
+    // Point 0 is the mean, point 1 + i is mean + column i, point 1 + n + i mean − column i.
+    for j in 0..points {
+        if j > 0 {
+            let (column, sign) = ((j - 1) % n, if j <= n { 1.0 } else { -1.0 });
+            for (r, x) in scratch.point.iter_mut().enumerate() {
+                *x = component.mean[r] + sign * scratch.root[r + column * n];
+            }
+        }
+        let position = step.motion.position(&scratch.point);
+        step.sensor
+            .measure_into(&position, &mut scratch.outputs[j * m..(j + 1) * m]);
+    }
+
+    // ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀): angular outputs near ±π average correctly.
+    let outputs = &scratch.outputs;
+    let mut mean = DVector::from_column_slice(&outputs[..m]);
+    for j in 1..points {
+        step.sensor.residual_into(
+            &outputs[j * m..(j + 1) * m],
+            &outputs[..m],
+            &mut scratch.residual,
+        );
+        for (y, r) in mean.iter_mut().zip(&scratch.residual) {
+            *y += weights.outer * r;
+        }
+    }
+    let mut cov = DMatrix::zeros(m, m);
+    let mut cross_cov = DMatrix::zeros(n, m);
+    for j in 0..points {
+        step.sensor.residual_into(
+            &outputs[j * m..(j + 1) * m],
+            mean.as_slice(),
+            &mut scratch.residual,
+        );
+        let w = if j == 0 {
+            weights.centre_cov
+        } else {
+            weights.outer
+        };
+        let dy = &scratch.residual;
+        for c in 0..m {
+            for r in 0..m {
+                cov[(r, c)] += w * dy[r] * dy[c];
+            }
+        }
+        // x_j − x_0 is ± a column of the root (zero for the centre point).
+        if j > 0 {
+            let (column, signed_weight) = ((j - 1) % n, if j <= n { w } else { -w });
+            for c in 0..m {
+                for r in 0..n {
+                    cross_cov[(r, c)] += signed_weight * scratch.root[r + column * n] * dy[c];
+                }
+            }
+        }
+    }
+    for c in 0..m {
+        for r in c + 1..m {
+            let symmetric = 0.5 * (cov[(r, c)] + cov[(c, r)]);
+            cov[(r, c)] = symmetric;
+            cov[(c, r)] = symmetric;
+        }
+    }
+    Ok(UnscentedMoments {
+        mean,
+        cov,
+        cross_cov,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gaussian::Label;
+    use crate::measurement::{BearingRange, Detection, MeasurementModel};
+    use crate::motion::CoordinatedTurn;
+    use crate::ukf::{SigmaPoints, UnscentedParams};
+
+    #[test]
+    fn matches_the_generic_transform() {
+        let motion = CoordinatedTurn::new(5.0, 0.02, 0.0, UnscentedParams::default()).unwrap();
+        let detection = Detection::new(0.9, 1.0).unwrap();
+        let sensor = BearingRange::new([0.0, 0.0, 0.0], [0.05, 5.0], 3000.0, detection).unwrap();
+        // Straddling the ±π bearing cut, where the residual wraps.
+        let mean = DVector::from_vec(vec![-900.0, 3.0, 4.0, -2.0, 0.01]);
+        let cov = DMatrix::from_fn(
+            5,
+            5,
+            |r, c| if r == c { 400.0 / (r + 1) as f64 } else { 3.0 },
+        );
+        let component = Gaussian::new(1.0, mean.clone(), cov.clone(), Label(1));
+        let params = UnscentedParams::default();
+        let step = UpdateStep {
+            motion: &motion,
+            sensor: &sensor,
+            unscented: &params,
+        };
+        let fast = project(&component, &step, &mut UnscentedScratch::default()).unwrap();
+        let generic = SigmaPoints::new(&mean, &cov, &params).unwrap().transform(
+            |x| sensor.measure(&crate::motion::MotionModel::position(&motion, x)),
+            |a, b| sensor.residual(a, b),
+        );
+        assert!((fast.mean - generic.mean).amax() < 1e-9);
+        assert!((fast.cov - generic.cov).amax() < 1e-6);
+        assert!((fast.cross_cov - generic.cross_cov).amax() < 1e-6);
+    }
+}
