@@ -14,7 +14,7 @@ use crate::predict::{predict_intensity, PredictionStep, Survival};
 use crate::reduce::Reducer;
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
-use crate::update::{update_gated, UpdateStep};
+use crate::update::{update_parts, UpdateStep};
 
 /// Settings of the recursion that are not models.
 ///
@@ -247,7 +247,9 @@ impl GmPhdFilter {
             sensor,
             unscented: &self.config.unscented,
         };
-        let outcome = update_gated(&self.intensity, &step, &gating, measurements)?;
+        let parts = update_parts(&self.intensity, &step, &gating, measurements)?;
+        // The prior is not needed any more: its components are moved, not copied.
+        let outcome = parts.moving_from(std::mem::take(&mut self.intensity));
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.record(
                 self.motion.as_ref(),

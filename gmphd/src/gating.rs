@@ -13,8 +13,10 @@
 //!   measurement of the object the component stands for lies outside it with probability
 //!   1 − `probability` (1e-4 by default). A skipped pair takes no part in the
 //!   normaliser κ(z) + Σ p_D w q(z) either: its term there is at most e^{−γ/2} of the
-//!   component's peak density, so the other weights change by a relative amount of that
-//!   order at most (e^{−γ/2} ≈ 1e-4 for a 2-D measurement, 2.7e-5 for 3-D). One
+//!   component's peak term p_D w q_max (e^{−γ/2} ≈ 1e-4 for a 2-D measurement, 2.7e-5
+//!   for 3-D), and the kept weights of z grow by the skipped terms' share of the
+//!   normaliser — in `tests/gating.rs`, 100 camera components × 60 measurements, by at
+//!   most 0.13 % and the total weight by 1e-5 relative. One
 //!   exception: when the sensor has no clutter (κ = 0) and no component has the
 //!   measurement in its gate, the model says it still comes from some object, so its
 //!   pairs are weighed without the gate rather than dropping the measurement.

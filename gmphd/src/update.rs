@@ -17,12 +17,14 @@
 //! stops as soon as the distance leaves the gate — no allocation. Gain and posterior
 //! covariance do not depend on z: they are computed once per component that has a kept
 //! pair and shared by its children; only an emitted child allocates (its mean and its copy
-//! of the covariance). Components are prepared, and measurements scored and emitted, in
-//! parallel (rayon) when there is enough work; each item is computed the same way either
-//! way and results are collected in order, so the output is identical, component for
-//! component, on any number of threads.
+//! of the covariance). Components are prepared, measurements scored and corrections
+//! computed in parallel (rayon) when there is enough work (about 0.2 ms of it);
+//! each item is computed the same way either way and results are collected in order, so
+//! the output is identical, component for component, on any number of threads. Children
+//! are emitted serially: that part is allocation, which does not scale across threads.
 
 mod component;
+mod correction;
 mod pairs;
 mod unscented;
 
@@ -34,13 +36,21 @@ use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
 use crate::ukf::UnscentedParams;
-use component::{Correction, Detectable, Innovation, Projection};
+use component::{Detectable, Projection};
+use correction::Correction;
 use pairs::{MeasurementPairs, PairRules, Scratch};
 use unscented::UnscentedScratch;
 
-/// Fewest component–measurement pairs (or unscented components × 16) for which the update
-/// runs in parallel: below it, waking a second thread costs more than it saves.
-const PARALLEL_MIN_WORK: usize = 2048;
+/// Least work (in nanoseconds of one core, roughly) that is spread over the rayon pool:
+/// below it, handing work to another thread costs more than it saves. Measured on the
+/// shared 2-core machine of BENCHMARKS.md, where the second core was rarely idle, even
+/// 1–10 ms updates hardly gained from it; the threshold keeps small updates serial.
+const PARALLEL_MIN_WORK_NS: usize = 200_000;
+/// Rough single-core cost of the parts of the update, for [`parallel`].
+const PAIR_NS: usize = 10;
+const LINEAR_COMPONENT_NS: usize = 200;
+const UNSCENTED_COMPONENT_NS: usize = 1_000;
+const CORRECTION_NS: usize = 500;
 
 /// The models one update needs.
 #[derive(Debug, Clone, Copy)]
@@ -98,12 +108,72 @@ pub fn update_with_association(
 ///
 /// Order of the result: the missed-detection components in input order, then, per
 /// measurement in input order, its children in component order.
-pub fn update_gated<'p>(
-    predicted: &'p GaussianMixture,
+pub fn update_gated(
+    predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     gating: &Gating,
     measurements: &[Measurement],
 ) -> Result<UpdateOutcome, FilterError> {
+    Ok(update_parts(predicted, step, gating, measurements)?.copying_from(predicted))
+}
+
+/// An update's result before its missed-detection components are made: those are
+/// the predicted components with a new weight, which the caller either copies
+/// ([`UpdateParts::copying_from`]) or, when it no longer needs the prior, moves
+/// ([`UpdateParts::moving_from`]), saving a copy of every component.
+pub(crate) struct UpdateParts {
+    /// (index into the predicted components, (1 − p_D) w), in input order.
+    missed: Vec<(usize, f64)>,
+    /// The detection children, in output order.
+    children: Vec<Gaussian>,
+    /// U(z) per measurement.
+    association: Vec<f64>,
+}
+
+impl UpdateParts {
+    /// The outcome, copying the missed-detection components from `predicted`.
+    fn copying_from(self, predicted: &GaussianMixture) -> UpdateOutcome {
+        let missed = self.missed.iter().map(|&(i, weight)| Gaussian {
+            weight,
+            ..predicted.components[i].clone()
+        });
+        let mut components = Vec::with_capacity(self.missed.len() + self.children.len());
+        components.extend(missed);
+        components.extend(self.children);
+        UpdateOutcome {
+            posterior: GaussianMixture::from_components(components),
+            association: self.association,
+        }
+    }
+
+    /// The outcome, moving the missed-detection components out of `predicted` — the
+    /// mixture [`update_parts`] was given.
+    pub(crate) fn moving_from(self, predicted: GaussianMixture) -> UpdateOutcome {
+        let mut components = Vec::with_capacity(self.missed.len() + self.children.len());
+        let mut missed = self.missed.iter().peekable();
+        for (i, component) in predicted.components.into_iter().enumerate() {
+            if let Some(&(_, weight)) = missed.next_if(|(index, _)| *index == i) {
+                components.push(Gaussian {
+                    weight,
+                    ..component
+                });
+            }
+        }
+        components.extend(self.children);
+        UpdateOutcome {
+            posterior: GaussianMixture::from_components(components),
+            association: self.association,
+        }
+    }
+}
+
+/// The work of [`update_gated`], leaving the missed-detection components to the caller.
+pub(crate) fn update_parts<'p>(
+    predicted: &'p GaussianMixture,
+    step: &UpdateStep<'_>,
+    gating: &Gating,
+    measurements: &[Measurement],
+) -> Result<UpdateParts, FilterError> {
     gating.validate()?;
     for measurement in measurements {
         step.sensor.validate(measurement)?;
@@ -115,41 +185,38 @@ pub fn update_gated<'p>(
         .linear_position_dims()
         .filter(|&d| d <= step.motion.position_dims());
 
-    let mut components = Vec::new();
-    let mut seen = Vec::new();
-    for component in predicted.iter().filter(|c| c.weight > 0.0) {
+    let mut missed = Vec::with_capacity(predicted.len());
+    let mut seen = Vec::with_capacity(predicted.len());
+    for (index, component) in predicted.iter().enumerate().filter(|(_, c)| c.weight > 0.0) {
         let position = step.motion.position(&component.mean);
         let p_d = step.sensor.detection_probability(&position).clamp(0.0, 1.0);
-        let missed = (1.0 - p_d) * component.weight;
-        if missed > 0.0 {
-            components.push(Gaussian {
-                weight: missed,
-                ..component.clone()
-            });
+        let missed_weight = (1.0 - p_d) * component.weight;
+        if missed_weight > 0.0 {
+            missed.push((index, missed_weight));
         }
         if p_d > 0.0 {
             seen.push((component, (p_d * component.weight).ln()));
         }
     }
 
-    let unscented_work = if linear_dims.is_some() { 1 } else { 16 };
+    let component_ns = if linear_dims.is_some() {
+        LINEAR_COMPONENT_NS
+    } else {
+        UNSCENTED_COMPONENT_NS
+    };
     let prepare = |scratch: &mut UnscentedScratch,
                    seen: &(&'p Gaussian, f64)|
      -> Result<Detectable<'p>, FilterError> {
         let (component, log_prior) = *seen;
         let projection = match linear_dims {
-            Some(d) => Projection::linear(component, d),
-            None => Projection::unscented(component, step, scratch)?,
+            Some(dims) => Projection::Linear { dims },
+            None => Projection::Unscented(unscented::project(component, step, scratch)?),
         };
-        let innovation = Innovation::new(&projection, &noise, gate);
-        Ok(Detectable {
-            component,
-            log_prior,
-            projection,
-            innovation,
-        })
+        Ok(Detectable::new(
+            component, log_prior, projection, &noise, gate,
+        ))
     };
-    let detectable: Vec<Detectable<'_>> = if parallel(seen.len() * unscented_work) {
+    let detectable: Vec<Detectable<'_>> = if parallel(seen.len() * component_ns) {
         seen.par_iter()
             .map_init(UnscentedScratch::default, prepare)
             .collect::<Result<_, FilterError>>()?
@@ -166,7 +233,7 @@ pub fn update_gated<'p>(
         gate,
         min_weight: gating.min_weight,
     };
-    let pair_work = parallel(detectable.len() * measurements.len());
+    let pair_work = parallel(detectable.len() * measurements.len() * PAIR_NS);
     let scored: Vec<MeasurementPairs> = if pair_work {
         measurements
             .par_iter()
@@ -185,34 +252,38 @@ pub fn update_gated<'p>(
     let mut needed = vec![false; detectable.len()];
     pairs::mark_default_noise_children(&scored, measurements, &mut needed);
     let correct = |(d, needed): (&Detectable<'_>, &bool)| {
-        needed.then(|| Correction::new(&d.projection, &d.innovation, &d.component.cov, &noise))
+        needed.then(|| Correction::new(d, &d.innovation, &noise))
     };
     let needed_count = needed.iter().filter(|n| **n).count();
-    let shared: Vec<Option<Correction>> = if parallel(needed_count * unscented_work) {
+    let shared: Vec<Option<Correction>> = if parallel(needed_count * CORRECTION_NS) {
         detectable.par_iter().zip(&needed).map(correct).collect()
     } else {
         detectable.iter().zip(&needed).map(correct).collect()
     };
 
-    let emit = |(pairs, measurement): (&MeasurementPairs, &Measurement)| {
-        pairs::children(pairs, measurement, &detectable, &shared, &noise)
-    };
+    // Emission is serial: it is mostly allocation, which does not scale across threads
+    // (and children freed on another thread than their allocating one cost more).
     let kept: usize = scored.iter().map(|s| s.pairs.len()).sum();
-    let children: Vec<Vec<Gaussian>> = if parallel(kept * 8) {
-        scored.par_iter().zip(measurements).map(emit).collect()
-    } else {
-        scored.iter().zip(measurements).map(emit).collect()
-    };
-    components.reserve(kept);
-    components.extend(children.into_iter().flatten());
-    Ok(UpdateOutcome {
-        posterior: GaussianMixture::from_components(components),
+    let mut children = Vec::with_capacity(kept);
+    for (pairs, measurement) in scored.iter().zip(measurements) {
+        pairs::emit_children(
+            pairs,
+            measurement,
+            &detectable,
+            &shared,
+            &noise,
+            &mut children,
+        );
+    }
+    Ok(UpdateParts {
+        missed,
+        children,
         association: scored.iter().map(|s| s.association).collect(),
     })
 }
 
-/// Whether `work` (roughly in units of one pair evaluation) is worth spreading over the
+/// Whether `work_ns` (estimated single-core nanoseconds) is worth spreading over the
 /// rayon pool: only with more than one thread and enough work.
-fn parallel(work: usize) -> bool {
-    work >= PARALLEL_MIN_WORK && rayon::current_num_threads() > 1
+fn parallel(work_ns: usize) -> bool {
+    work_ns >= PARALLEL_MIN_WORK_NS && rayon::current_num_threads() > 1
 }

@@ -1,95 +1,173 @@
-//! One predicted component prepared for the update: its predicted measurement and the
-//! Cholesky factor of its innovation covariance (needed for every pair), and — only for
-//! components that get a detection child — the gain and posterior covariance, which do
-//! not depend on the measurement and are therefore computed once and shared by all of
-//! the component's children.
+//! One predicted component prepared for the update: its projection into measurement space
+//! and the Cholesky factor of its innovation covariance, both needed for every pair.
+//! (Gain and posterior covariance, needed only for components that get a detection child,
+//! are in [`super::correction`].)
+//!
+//! Per component this allocates only what it keeps: nothing for a linear sensor's
+//! projection (a slice of the component), three arrays for an unscented one, and one
+//! buffer for the innovation factor.
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::DMatrix;
 
-use super::unscented::{self, UnscentedScratch};
-use super::UpdateStep;
-use crate::error::FilterError;
+use super::unscented::UnscentedMoments;
 use crate::gaussian::Gaussian;
-use crate::linalg::{log_determinant, nearest_spd, robust_cholesky};
+use crate::linalg::robust_cholesky;
 
 /// ln 2π.
 const LN_TAU: f64 = 1.837_877_066_409_345_5;
 
 /// A predicted component seen in measurement space (noise not included).
-pub(super) struct Projection {
-    predicted_z: DVector<f64>,
-    z_cov: DMatrix<f64>,
-    cross_cov: DMatrix<f64>,
-    /// True when the sensor reads the first d state components directly (H = [I_d 0]);
-    /// then the exact Kalman (Joseph form) covariance update is used.
-    linear: bool,
+pub(super) enum Projection {
+    /// H = [I_d 0]: ẑ, H P Hᵀ and P Hᵀ are slices of the component.
+    Linear { dims: usize },
+    /// The unscented transform's moments.
+    Unscented(UnscentedMoments),
 }
 
-impl Projection {
-    /// H = [I_d 0]: the projection is a slice of the component.
-    pub(super) fn linear(component: &Gaussian, dims: usize) -> Self {
-        Self {
-            predicted_z: component.mean.rows(0, dims).into_owned(),
-            z_cov: component.cov.view((0, 0), (dims, dims)).into_owned(),
-            cross_cov: component.cov.columns(0, dims).into_owned(),
-            linear: true,
-        }
+/// A predicted component the sensor can detect, prepared for the update.
+pub(super) struct Detectable<'a> {
+    pub(super) component: &'a Gaussian,
+    /// log(p_D · w).
+    pub(super) log_prior: f64,
+    projection: Projection,
+    /// With the sensor's default noise.
+    pub(super) innovation: Innovation,
+}
+
+impl<'a> Detectable<'a> {
+    /// Prepares `component` for a sensor with default noise `noise` and gate `gate` (γ).
+    pub(super) fn new(
+        component: &'a Gaussian,
+        log_prior: f64,
+        projection: Projection,
+        noise: &DMatrix<f64>,
+        gate: f64,
+    ) -> Self {
+        let mut detectable = Self {
+            component,
+            log_prior,
+            projection,
+            innovation: Innovation::default(),
+        };
+        detectable.innovation = detectable.innovation_with(noise, gate);
+        detectable
     }
 
-    /// The unscented transform of the component through position and measurement.
-    pub(super) fn unscented(
-        component: &Gaussian,
-        step: &UpdateStep<'_>,
-        scratch: &mut UnscentedScratch,
-    ) -> Result<Self, FilterError> {
-        let out = unscented::project(component, step, scratch)?;
-        Ok(Self {
-            predicted_z: out.mean,
-            z_cov: out.cov,
-            cross_cov: out.cross_cov,
-            linear: false,
-        })
+    /// True for H = [I_d 0] (then the Joseph-form covariance update applies).
+    pub(super) fn is_linear(&self) -> bool {
+        matches!(self.projection, Projection::Linear { .. })
+    }
+
+    /// Size of the state.
+    pub(super) fn state_dim(&self) -> usize {
+        self.component.dim()
+    }
+
+    /// Size of a measurement.
+    pub(super) fn measurement_dim(&self) -> usize {
+        match &self.projection {
+            Projection::Linear { dims } => *dims,
+            Projection::Unscented(moments) => moments.mean.len(),
+        }
     }
 
     /// The predicted measurement ẑ.
     pub(super) fn predicted_z(&self) -> &[f64] {
-        self.predicted_z.as_slice()
+        match &self.projection {
+            Projection::Linear { dims } => &self.component.mean.as_slice()[..*dims],
+            Projection::Unscented(moments) => moments.mean.as_slice(),
+        }
     }
 
-    /// Variance of the i-th predicted measurement entry (noise not included).
-    pub(super) fn z_variance(&self, i: usize) -> f64 {
-        self.z_cov[(i, i)]
+    /// Entry (r, c) of H P Hᵀ (noise not included).
+    pub(super) fn z_cov(&self, r: usize, c: usize) -> f64 {
+        match &self.projection {
+            Projection::Linear { .. } => self.component.cov[(r, c)],
+            Projection::Unscented(moments) => moments.cov[(r, c)],
+        }
     }
+
+    /// Entry (r, c) of the state–measurement cross-covariance P Hᵀ.
+    pub(super) fn cross_cov(&self, r: usize, c: usize) -> f64 {
+        match &self.projection {
+            Projection::Linear { .. } => self.component.cov[(r, c)],
+            Projection::Unscented(moments) => moments.cross_cov[(r, c)],
+        }
+    }
+
+    /// The innovation covariance H P Hᵀ + `noise`, factored, for the gate `gate`.
+    pub(super) fn innovation_with(&self, noise: &DMatrix<f64>, gate: f64) -> Innovation {
+        let m = self.measurement_dim();
+        let s = |r: usize, c: usize| self.z_cov(r, c) + noise[(r, c)];
+        let mut data = vec![0.0; m * m + m];
+        if !lower_cholesky(m, s, &mut data[..m * m]) {
+            // Not numerically positive definite (a tiny innovation against round-off):
+            // the repaired factor, as everywhere else in the filter.
+            let repaired = robust_cholesky(&DMatrix::from_fn(m, m, s)).unpack();
+            data[..m * m].copy_from_slice(repaired.as_slice());
+        }
+        let log_det: f64 = (0..m).map(|i| 2.0 * data[i + i * m].ln()).sum();
+        for i in 0..m {
+            data[m * m + i] = (gate * s(i, i)).sqrt();
+        }
+        Innovation {
+            dim: m,
+            data,
+            log_peak_inverse: 0.5 * (m as f64 * LN_TAU + log_det),
+        }
+    }
+}
+
+/// Cholesky factorisation of the m × m matrix with entries `a(r, c)` (its lower triangle is
+/// read) into `lower`, column-major with zeros above the diagonal; false when the matrix is
+/// not numerically positive definite.
+pub(super) fn lower_cholesky(m: usize, a: impl Fn(usize, usize) -> f64, lower: &mut [f64]) -> bool {
+    for j in 0..m {
+        let mut diagonal = a(j, j);
+        for k in 0..j {
+            diagonal -= lower[j + k * m] * lower[j + k * m];
+        }
+        if diagonal <= 0.0 || diagonal.is_nan() {
+            return false;
+        }
+        let l_jj = diagonal.sqrt();
+        lower[j + j * m] = l_jj;
+        for i in j + 1..m {
+            let mut v = a(i, j);
+            for k in 0..j {
+                v -= lower[i + k * m] * lower[j + k * m];
+            }
+            lower[i + j * m] = v / l_jj;
+        }
+        for i in 0..j {
+            lower[i + j * m] = 0.0;
+        }
+    }
+    true
 }
 
 /// The innovation covariance S = H P Hᵀ + R of one component and noise, factored.
+#[derive(Default)]
 pub(super) struct Innovation {
-    factor: Cholesky<f64, Dyn>,
+    dim: usize,
+    /// The lower Cholesky factor L of S (column-major, m × m), then √(γ S_ii) for each i:
+    /// a residual entry beyond it puts the pair outside the gate γ, since
+    /// rᵀ S⁻¹ r ≥ r_i² / S_ii (+∞ without a gate).
+    data: Vec<f64>,
     /// ½ (m ln 2π + ln det S): −log of the density's peak.
     log_peak_inverse: f64,
-    /// √(γ S_ii): a residual entry beyond this puts the pair outside the gate γ, since
-    /// rᵀ S⁻¹ r ≥ r_i² / S_ii (+∞ without a gate).
-    half_width: Vec<f64>,
 }
 
 impl Innovation {
-    /// Factors S = `z_cov` + `noise` for the gate `gate` (γ, possibly +∞).
-    pub(super) fn new(projection: &Projection, noise: &DMatrix<f64>, gate: f64) -> Self {
-        let s = &projection.z_cov + noise;
-        let factor = robust_cholesky(&s);
-        let m = s.nrows();
-        Self {
-            log_peak_inverse: 0.5 * (m as f64 * LN_TAU + log_determinant(&factor)),
-            half_width: (0..m).map(|i| (gate * s[(i, i)]).sqrt()).collect(),
-            factor,
-        }
+    fn lower(&self) -> &[f64] {
+        &self.data[..self.dim * self.dim]
     }
 
     /// True when some entry of `residual` alone puts the pair outside the gate.
     pub(super) fn outside_box(&self, residual: &[f64]) -> bool {
         residual
             .iter()
-            .zip(&self.half_width)
+            .zip(&self.data[self.dim * self.dim..])
             .any(|(r, h)| r.abs() > *h)
     }
 
@@ -101,9 +179,8 @@ impl Innovation {
         whitened: &mut [f64],
         limit: f64,
     ) -> Option<f64> {
-        let m = residual.len();
-        // Column-major; only the lower triangle of `l_dirty` is meaningful.
-        let l = self.factor.l_dirty().as_slice();
+        let m = self.dim;
+        let l = self.lower();
         let mut sum = 0.0;
         for i in 0..m {
             let mut v = residual[i];
@@ -124,60 +201,24 @@ impl Innovation {
     pub(super) fn log_density(&self, distance_sq: f64) -> f64 {
         -0.5 * distance_sq - self.log_peak_inverse
     }
-}
 
-/// Gain and posterior covariance of one component and noise (independent of z).
-pub(super) struct Correction {
-    gain: DMatrix<f64>,
-    posterior_cov: DMatrix<f64>,
-}
-
-impl Correction {
-    /// K = C S⁻¹ and the posterior covariance, Joseph form for a linear sensor.
-    pub(super) fn new(
-        projection: &Projection,
-        innovation: &Innovation,
-        prior_cov: &DMatrix<f64>,
-        noise: &DMatrix<f64>,
-    ) -> Self {
-        // K = C S⁻¹, computed as (S⁻¹ Cᵀ)ᵀ with S symmetric.
-        let gain = innovation
-            .factor
-            .solve(&projection.cross_cov.transpose())
-            .transpose();
-        let posterior = if projection.linear {
-            // Joseph form (I − K H) P (I − K H)ᵀ + K R Kᵀ: stays symmetric positive
-            // definite under round-off. K H is K in the first d columns, zero elsewhere.
-            let n = prior_cov.nrows();
-            let mut a = DMatrix::identity(n, n);
-            let d = gain.ncols();
-            a.columns_mut(0, d).zip_apply(&gain, |x, k| *x -= k);
-            &a * prior_cov * a.transpose() + &gain * noise * gain.transpose()
-        } else {
-            // K S Kᵀ = K Cᵀ because K S = C.
-            prior_cov - &gain * projection.cross_cov.transpose()
-        };
-        Self {
-            gain,
-            posterior_cov: nearest_spd(&posterior),
+    /// x ← S⁻¹ x, by forward then backward substitution with L.
+    pub(super) fn solve_in_place(&self, x: &mut [f64]) {
+        let m = self.dim;
+        let l = self.lower();
+        for i in 0..m {
+            let mut v = x[i];
+            for k in 0..i {
+                v -= l[i + k * m] * x[k];
+            }
+            x[i] = v / l[i + i * m];
+        }
+        for i in (0..m).rev() {
+            let mut v = x[i];
+            for k in i + 1..m {
+                v -= l[k + i * m] * x[k];
+            }
+            x[i] = v / l[i + i * m];
         }
     }
-
-    /// The child of `component` for residual `r`: m + K r, the shared posterior covariance.
-    pub(super) fn child(&self, component: &Gaussian, weight: f64, residual: &[f64]) -> Gaussian {
-        let mut mean = component.mean.clone();
-        let r = nalgebra::DVectorView::from_slice(residual, residual.len());
-        mean.gemv(1.0, &self.gain, &r, 1.0);
-        Gaussian::new(weight, mean, self.posterior_cov.clone(), component.label)
-    }
-}
-
-/// A predicted component the sensor can detect, prepared for the update.
-pub(super) struct Detectable<'a> {
-    pub(super) component: &'a Gaussian,
-    /// log(p_D · w).
-    pub(super) log_prior: f64,
-    pub(super) projection: Projection,
-    /// With the sensor's default noise.
-    pub(super) innovation: Innovation,
 }

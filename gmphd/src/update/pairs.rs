@@ -3,7 +3,8 @@
 
 use nalgebra::DMatrix;
 
-use super::component::{Correction, Detectable, Innovation};
+use super::component::Detectable;
+use super::correction::Correction;
 use crate::gaussian::Gaussian;
 use crate::measurement::{Measurement, MeasurementModel};
 
@@ -83,7 +84,7 @@ fn gate_candidates(
     scratch.candidate_residuals.clear();
     let z = measurement.z.as_slice();
     for (k, d) in detectable.iter().enumerate() {
-        sensor.residual_into(z, d.projection.predicted_z(), &mut scratch.residual);
+        sensor.residual_into(z, d.predicted_z(), &mut scratch.residual);
         let log_q = match &measurement.cov {
             None => {
                 if gate < f64::INFINITY && d.innovation.outside_box(&scratch.residual) {
@@ -154,13 +155,13 @@ fn own_noise_log_density(
     scratch: &mut Scratch,
 ) -> Option<f64> {
     let outside = scratch.residual.iter().enumerate().any(|(i, r)| {
-        let variance = d.projection.z_variance(i) + noise[(i, i)];
+        let variance = d.z_cov(i, i) + noise[(i, i)];
         r.abs() > (gate * variance).sqrt()
     });
     if outside {
         return None;
     }
-    let innovation = Innovation::new(&d.projection, noise, gate);
+    let innovation = d.innovation_with(noise, gate);
     innovation
         .distance_sq(&scratch.residual, &mut scratch.whitened, gate)
         .map(|distance| innovation.log_density(distance))
@@ -182,37 +183,31 @@ pub(super) fn mark_default_noise_children(
     }
 }
 
-/// The children of one measurement's kept pairs, in pair order. `shared` holds the
-/// default-noise correction of every component marked by [`mark_default_noise_children`].
-pub(super) fn children(
+/// Appends the children of one measurement's kept pairs to `out`, in pair order. `shared`
+/// holds the default-noise correction of every component marked by
+/// [`mark_default_noise_children`].
+pub(super) fn emit_children(
     pairs: &MeasurementPairs,
     measurement: &Measurement,
     detectable: &[Detectable<'_>],
     shared: &[Option<Correction>],
     default_noise: &DMatrix<f64>,
-) -> Vec<Gaussian> {
+    out: &mut Vec<Gaussian>,
+) {
     let dim = measurement.z.len();
-    pairs
-        .pairs
-        .iter()
-        .enumerate()
-        .map(|(i, &(k, weight))| {
-            let d = &detectable[k];
-            let residual = &pairs.residuals[i * dim..(i + 1) * dim];
-            match (&measurement.cov, &shared[k]) {
-                (None, Some(correction)) => correction.child(d.component, weight, residual),
-                // A measurement with its own noise (rare: estimates of an agent's own
-                // filter) needs a correction of its own for every pair.
-                (own, _) => {
-                    let noise = own.as_ref().unwrap_or(default_noise);
-                    let innovation = Innovation::new(&d.projection, noise, f64::INFINITY);
-                    Correction::new(&d.projection, &innovation, &d.component.cov, noise).child(
-                        d.component,
-                        weight,
-                        residual,
-                    )
-                }
+    for (i, &(k, weight)) in pairs.pairs.iter().enumerate() {
+        let d = &detectable[k];
+        let residual = &pairs.residuals[i * dim..(i + 1) * dim];
+        let child = match (&measurement.cov, &shared[k]) {
+            (None, Some(correction)) => correction.child(d.component, weight, residual),
+            // A measurement with its own noise (rare: estimates of an agent's own filter)
+            // needs a correction of its own for every pair.
+            (own, _) => {
+                let noise = own.as_ref().unwrap_or(default_noise);
+                let innovation = d.innovation_with(noise, f64::INFINITY);
+                Correction::new(d, &innovation, noise).child(d.component, weight, residual)
             }
-        })
-        .collect()
+        };
+        out.push(child);
+    }
 }

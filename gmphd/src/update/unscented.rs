@@ -5,6 +5,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::component::lower_cholesky;
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
@@ -30,34 +31,6 @@ pub(super) struct UnscentedMoments {
     pub(super) cross_cov: DMatrix<f64>,
 }
 
-/// In-place Cholesky factorisation of the lower triangle of `scale` · `cov` into `lower`
-/// (column-major); false when the matrix is not positive definite.
-fn scaled_cholesky(cov: &DMatrix<f64>, scale: f64, lower: &mut [f64]) -> bool {
-    let n = cov.nrows();
-    for j in 0..n {
-        let mut diagonal = scale * cov[(j, j)];
-        for k in 0..j {
-            diagonal -= lower[j + k * n] * lower[j + k * n];
-        }
-        if diagonal <= 0.0 || diagonal.is_nan() {
-            return false;
-        }
-        let l_jj = diagonal.sqrt();
-        lower[j + j * n] = l_jj;
-        for i in j + 1..n {
-            let mut v = scale * cov[(i, j)];
-            for k in 0..j {
-                v -= lower[i + k * n] * lower[j + k * n];
-            }
-            lower[i + j * n] = v / l_jj;
-        }
-        for i in 0..j {
-            lower[i + j * n] = 0.0;
-        }
-    }
-    true
-}
-
 /// The unscented moments of `component` seen by `step.sensor` through `step.motion`.
 pub(super) fn project(
     component: &Gaussian,
@@ -67,7 +40,8 @@ pub(super) fn project(
     let (n, m) = (component.dim(), step.sensor.dim());
     let weights = step.unscented.weights(n)?;
     scratch.root.resize(n * n, 0.0);
-    if !scaled_cholesky(&component.cov, weights.spread, &mut scratch.root) {
+    let spread = weights.spread;
+    if !lower_cholesky(n, |r, c| spread * component.cov[(r, c)], &mut scratch.root) {
         // Repair a covariance made slightly indefinite by round-off, as SigmaPoints does.
         let root = robust_cholesky(&(&component.cov * weights.spread)).unpack();
         scratch.root.copy_from_slice(root.as_slice());
@@ -116,17 +90,21 @@ pub(super) fn project(
             weights.outer
         };
         let dy = &scratch.residual;
-        for c in 0..m {
-            for r in 0..m {
-                cov[(r, c)] += w * dy[r] * dy[c];
+        // Column-major storage: entry (r, c) of an R-row matrix is at r + c·R.
+        for (c, cov_column) in cov.as_mut_slice().chunks_exact_mut(m).enumerate() {
+            let scaled = w * dy[c];
+            for (entry, y) in cov_column.iter_mut().zip(dy) {
+                *entry += scaled * y;
             }
         }
         // x_j − x_0 is ± a column of the root (zero for the centre point).
         if j > 0 {
             let (column, signed_weight) = ((j - 1) % n, if j <= n { w } else { -w });
-            for c in 0..m {
-                for r in 0..n {
-                    cross_cov[(r, c)] += signed_weight * scratch.root[r + column * n] * dy[c];
+            let dx = &scratch.root[column * n..(column + 1) * n];
+            for (c, cross_column) in cross_cov.as_mut_slice().chunks_exact_mut(n).enumerate() {
+                let scaled = signed_weight * dy[c];
+                for (entry, x) in cross_column.iter_mut().zip(dx) {
+                    *entry += scaled * x;
                 }
             }
         }
