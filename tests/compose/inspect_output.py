@@ -4,6 +4,10 @@
   status-sensor NAME   -> "alive received processed late invalid lost" of one sensor (or "missing")
   status-sensors       -> one line per sensor: "name alive received processed late invalid lost"
   status-rejected      -> "undecodable unknown_sensor invalid late" server-wide rejection counters
+  apart-windows MIN_DIST MIN_LEN
+                       -> reads replay lines (edge-agent sim --truth --output -) and prints "start end" (scenario
+                          seconds) of every stretch of at least MIN_LEN s in which all people stay at least
+                          MIN_DIST m apart (horizontally)
   ids-compare BEFORE AFTER
                        -> compares two `fusion-checker ids` outputs (files): for every true object seen in
                           both, is its most frequent track id the same? Prints one line per object and
@@ -13,6 +17,7 @@ Only the standard library: CI machines have a plain Python 3.
 """
 
 import json
+import math
 import sys
 
 MIN_OBJECTS = 2
@@ -35,8 +40,36 @@ def dominant_ids(ids):
     return {obj: max(tracks.items(), key=lambda kv: kv[1])[0] for obj, tracks in ids.items() if tracks}
 
 
+def apart_windows(lines, min_dist, min_len):
+    """Stretches of scenario time in which every pair of people is at least min_dist apart."""
+    windows, start, last = [], None, None
+    for line in lines:
+        record = json.loads(line)
+        if "truth" not in record:
+            continue
+        truth = record["truth"]
+        points = [o["position"][:2] for o in truth["objects"]]
+        closest = min(
+            (math.dist(a, b) for i, a in enumerate(points) for b in points[i + 1:]),
+            default=float("inf"),
+        )
+        if closest >= min_dist and start is None:
+            start = truth["stamp"]
+        elif closest < min_dist and start is not None:
+            windows.append((start, truth["stamp"]))
+            start = None
+        last = truth["stamp"]
+    if start is not None:
+        windows.append((start, last))
+    return [(a, b) for a, b in windows if b - a >= min_len]
+
+
 def main(argv):
     command = argv[1]
+    if command == "apart-windows":
+        for start, end in apart_windows(sys.stdin, float(argv[2]), float(argv[3])):
+            print(f"{start:.1f} {end:.1f}")
+        return 0
     if command == "ids-compare":
         with open(argv[2]) as f:
             before = dominant_ids(load_json(f.read()))

@@ -218,32 +218,7 @@ section "1. steady state"
 watch_ospa "steady state" 30 0.2
 all_sensors_alive "steady state"
 
-# Early in the scenario: the tracker keeps labels while everyone moves; later, with person 1 standing
-# still, it relabels people now and then without any restart (reported to the filter's owners), which
-# would make this comparison fail for reasons unrelated to the checkpoint.
-section "2. server restart: track ids kept (checkpoint on the named volume)"
-ids_before="$(mktemp)"
-ids_after="$(mktemp)"
-checker_json ids --duration 3 >"$ids_before" || true
-echo "    ids before: $(cat "$ids_before")"
-t0="$(now)"
-dc restart -t 15 server >/dev/null 2>&1
-if out="$(checker wait-tracks --timeout 20)"; then
-  echo "    server back, tracks flowing $(elapsed "$t0") s after the restart began"
-fi
-checker_json ids --duration 3 >"$ids_after" || true
-echo "    ids after:  $(cat "$ids_after")"
-if compared="$(inspect ids-compare "$ids_before" "$ids_after")"; then
-  sed 's/^/    /' <<<"$compared"
-  pass "server restart: $(tail -1 <<<"$compared")"
-else
-  sed 's/^/    /' <<<"$compared"
-  fail "server restart: track ids not kept ($(tail -1 <<<"$compared"))"
-fi
-rm -f "$ids_before" "$ids_after"
-check_no_restarts "server restart" server
-
-section "3. partition: mics_n cut off the network for 10 s"
+section "2. partition: mics_n cut off the network for 10 s"
 network="$(docker inspect --format '{{range $k, $v := .NetworkSettings.Networks}}{{$k}} {{end}}' "$(container_of mics_n)" | awk '{ print $1 }')"
 before="$(sensor_status mics_n)"
 echo "    before: alive received processed late invalid lost: $before"
@@ -260,6 +235,62 @@ else
   fail "partition: mics_n did not resume within 30 s (last: $resumed)"
 fi
 check_no_restarts "partition"
+
+section "3. server restart: track ids kept (checkpoint on the named volume)"
+# The checkpoint restores every label, but the filter itself may relabel a person after a gap in its data
+# (a restart is a gap of about half a second): always while two people are within about half a metre, and
+# now and then otherwise (reproduced offline with gaps cut into a replay file, no restart involved;
+# reported to the filter's owners). So the restart is done while everybody stays apart, and tried up to
+# three times: a broken checkpoint fails every attempt (all ids change), the filter's relabelling seldom
+# twice. The truth is a pure function of (scenario, seed, time): the agent image computes it, offline.
+windows="$(docker run --rm "fusion/edge-agent:$FUSION_IMAGE_TAG" sim --sensor lidar --truth --seed "$SEED" \
+  --start 0 --duration 300 --output - 2>/dev/null | inspect apart-windows 0.7 14)"
+echo "    stretches of scenario time with everybody at least 0.7 m apart: $(tr '\n' ' ' <<<"$windows")"
+restart_keeps_ids() { # attempt number; true when every person kept their id
+  local before after compared downtime t0 code=0
+  before="$(mktemp)"
+  after="$(mktemp)"
+  checker_json ids --duration 3 >"$before" || true
+  t0="$(now)"
+  dc restart -t 15 server >/dev/null 2>&1
+  checker wait-tracks --timeout 20 >/dev/null || true
+  local back
+  back="$(elapsed "$t0")"
+  # The data gap the filter saw: from the old process's shutdown to the new one's session.
+  downtime="$(dc logs --no-color server 2>/dev/null | grep -e 'shutting down' -e 'zenoh session open' | tail -2 |
+    grep -o '20[0-9-]*T[0-9:.]*Z' | while read -r stamp; do date -d "$stamp" +%s.%N; done |
+    awk 'NR == 1 { a = $1 } NR == 2 { printf "%.2f", $1 - a }')"
+  checker_json ids --duration 3 >"$after" || true
+  echo "    attempt $1 at t = $(($(date +%s) - START)) s: server down ${downtime:-?} s, tracks seen again $back s after the restart began"
+  echo "      ids before: $(cat "$before")"
+  echo "      ids after:  $(cat "$after")"
+  compared="$(inspect ids-compare "$before" "$after")" || code=$?
+  sed 's/^/      /' <<<"$compared"
+  last_comparison="$(tail -1 <<<"$compared")"
+  rm -f "$before" "$after"
+  return "$code"
+}
+kept=0
+attempt=0
+while [ "$attempt" -lt 3 ] && [ "$kept" = 0 ]; do
+  scenario_now=$(($(date +%s) - START))
+  # The next moment from which a stretch has at least 13 s left (one attempt takes about that long).
+  slot="$(awk -v now="$scenario_now" '{ s = ($1 > now ? $1 : now); if ($2 - s >= 13) { print s; exit } }' <<<"$windows")"
+  if [ -z "$slot" ]; then
+    [ "$attempt" -gt 0 ] && break
+    echo "    no stretch with everybody apart ahead: restarting now"
+  else
+    while le "$(($(date +%s) - START))" "$slot"; do sleep 0.5; done
+  fi
+  attempt=$((attempt + 1))
+  if restart_keeps_ids "$attempt"; then kept=1; fi
+done
+if [ "$kept" = 1 ]; then
+  pass "server restart: $last_comparison (attempt $attempt of at most 3)"
+else
+  fail "server restart: track ids not kept in $attempt attempts ($last_comparison)"
+fi
+check_no_restarts "server restart" server
 
 section "4. sensor loss: cam1 stopped, then started again"
 dc stop cam1 >/dev/null 2>&1
