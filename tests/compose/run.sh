@@ -365,14 +365,15 @@ bring_up "secure startup (agents and server with credentials)"
 watch_ospa "secure: honest agents with credentials" 10 0.2
 all_sensors_alive "secure"
 read -r und0 unk0 inv0 late0 <<<"$(rejected_counts)"
-# A rogue must fail to open its session; the reason shows where: a closed port, the router closing the
-# handshake at InitSyn (no credentials offered) or at OpenSyn (the password's HMAC did not match).
+# A rogue must fail to open its session; the reason shows where: plain TCP on the TLS port (dropped), the
+# router closing the handshake at InitSyn (no credentials offered) or at OpenSyn (wrong password's HMAC).
 refused() { # service, label, checker arguments...
   local service="$1" label="$2" out code=0 reason
   shift 2
   out="$(dc run --rm -T -e NO_COLOR=1 "$service" "$@" 2>&1)" || code=$?
   reason="$(grep -o -m1 -e 'Received a close message ([^)]*) in response to an [A-Za-z]*' \
-    -e 'Connection refused' <<<"$out" || true)"
+    -e 'Connection refused' -e 'early eof' <<<"$out" || true)"
+  [ "$reason" = "early eof" ] && reason="the TLS listener dropped the plain TCP connection: early eof"
   if [ "$code" != 0 ] && grep -q "opening the zenoh session failed" <<<"$out"; then
     pass "secure: $label: refused at session open (${reason:-no reason logged})"
   else
