@@ -3,7 +3,7 @@
 # Needs the images of docker/build.sh. Brings the stack up under a unique project name, injects faults
 # with docker commands, measures with fusion-checker containers, prints every figure, tears everything
 # down (volumes included) on exit, and exits non-zero when any check failed.
-#   tests/compose/run.sh            # all checks, about 5 minutes
+#   tests/compose/run.sh              # all checks, about 4 minutes
 #   KEEP_LOGS=1 tests/compose/run.sh   # print the services' logs at the end even when all passed
 set -euo pipefail
 
