@@ -23,6 +23,7 @@ pub mod motion;
 pub mod predict;
 pub mod reduce;
 pub mod spawn;
+mod sweep;
 pub mod tracker;
 pub mod tracks;
 pub mod ukf;

@@ -8,6 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::linalg::{robust_cholesky, symmetrize, MahalanobisGate};
+use crate::sweep;
 
 /// Keeps the number of Gaussian components bounded between updates.
 pub trait Reducer: Send + Sync + Debug {
@@ -107,17 +108,64 @@ impl Reducer for PruneMergeCap {
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         // Vo & Ma measure the distance with the candidate's own covariance P_i.
         let mut gates = vec![MahalanobisGate::default(); kept.len()];
+        // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
+        // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
+        // at those within the largest reach of its side of it; the few widest components
+        // (beyond the 90th percentile of reach) would make that window wide, so they are
+        // kept aside and tested against every pivot.
+        let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
+        let reach: Vec<f64> = kept
+            .iter()
+            .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
+            .collect();
+        let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
+        finite_reach.sort_by(f64::total_cmp);
+        let window = finite_reach
+            .get(finite_reach.len() * 9 / 10)
+            .copied()
+            .unwrap_or(0.0);
+        let (mut sorted, mut wide) = (Vec::new(), Vec::new());
+        for (i, g) in kept.iter().enumerate() {
+            if first(g).is_finite() && reach[i] <= window {
+                sorted.push((first(g), i));
+            } else {
+                wide.push(i);
+            }
+        }
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
 
-        // Indices not yet merged, in order; a pivot takes every later one within U.
-        let mut unmerged: Vec<usize> = (0..kept.len()).collect();
+        // Visited by weight: each component not yet merged is a pivot that takes every
+        // later unmerged one within U.
+        let mut unmerged = vec![true; kept.len()];
         let mut members = Vec::new();
+        let mut candidates = Vec::new();
         let mut scratch = Vec::new();
         let mut merged: Vec<Gaussian> = Vec::new();
-        while let Some((&pivot, rest)) = unmerged.split_first() {
+        for pivot in 0..kept.len() {
+            if !unmerged[pivot] {
+                continue;
+            }
             let centre = &kept[pivot].mean;
             members.clear();
             members.push(pivot);
-            for &i in rest {
+            candidates.clear();
+            match sweep::run(&sorted, first(kept[pivot]), window) {
+                Some((start, end)) => {
+                    let near = sorted[start..end].iter().map(|(_, i)| *i);
+                    candidates.extend(
+                        near.chain(wide.iter().copied())
+                            .filter(|&i| i > pivot && unmerged[i]),
+                    );
+                    // Tested (and merged) in weight order, as a full scan would.
+                    candidates.sort_unstable();
+                }
+                // A centre off the index (not finite): every later component.
+                None => candidates.extend(pivot + 1..kept.len()),
+            }
+            for &i in &candidates {
+                if !unmerged[i] {
+                    continue;
+                }
                 let (candidate, gate) = (kept[i], &mut gates[i]);
                 let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
                 if candidate.dim() == centre.len()
@@ -133,17 +181,10 @@ impl Reducer for PruneMergeCap {
                     members.push(i);
                 }
             }
+            for &i in &members {
+                unmerged[i] = false;
+            }
             merged.push(merge(&kept, &members));
-            // `members` is ascending, like `unmerged`: drop them in one ordered pass.
-            let mut next_member = members.iter().peekable();
-            unmerged.retain(|i| {
-                if next_member.peek() == Some(&i) {
-                    next_member.next();
-                    false
-                } else {
-                    true
-                }
-            });
         }
         let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
         indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
@@ -189,6 +230,74 @@ mod tests {
         // Spread of the merged means adds to the covariance: 1 + (0.3·(2/3)² + 0.6·(1/3)²)/0.9.
         assert!((first.cov[(0, 0)] - (1.0 + 2.0 / 9.0)).abs() < 1e-12);
         assert_eq!(reduced.components[1].label, Label(2));
+    }
+
+    /// Vo & Ma's Table II as written: every pivot tests every remaining component.
+    fn reduce_by_full_scan(reducer: &PruneMergeCap, mixture: &GaussianMixture) -> GaussianMixture {
+        let mut order: Vec<(usize, &Gaussian)> = mixture
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| g.weight > reducer.prune_threshold)
+            .collect();
+        order.sort_by(|a, b| heaviest_first(*a, *b));
+        let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
+        let mut unmerged: Vec<usize> = (0..kept.len()).collect();
+        let mut merged = Vec::new();
+        while let Some(&pivot) = unmerged.first() {
+            let members: Vec<usize> = unmerged
+                .iter()
+                .copied()
+                .filter(|&i| {
+                    let d = &kept[i].mean - &kept[pivot].mean;
+                    i == pivot
+                        || d.dot(&kept[i].cov.clone().cholesky().unwrap().solve(&d))
+                            <= reducer.merge_threshold
+                })
+                .collect();
+            unmerged.retain(|i| !members.contains(i));
+            merged.push(merge(&kept, &members));
+        }
+        let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
+        indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
+        indexed.truncate(reducer.max_components);
+        GaussianMixture::from_components(indexed.into_iter().map(|(_, g)| g).collect())
+    }
+
+    #[test]
+    fn the_sorted_sweep_merges_like_a_full_scan() {
+        // Clusters of narrow components plus a few very wide ones (which the sweep keeps
+        // aside), with correlated covariances so that the first coordinate alone decides
+        // little.
+        let mut state = 12345u64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let components = (0..600)
+            .map(|i| {
+                let cluster = (i % 20) as f64;
+                let wide = if i % 97 == 0 { 400.0 } else { 1.0 };
+                let spread = 0.2 + uniform();
+                let mean = DVector::from_vec(vec![
+                    cluster * 3.0 + 2.0 * uniform(),
+                    cluster + 2.0 * uniform(),
+                    uniform(),
+                ]);
+                let a = DMatrix::from_fn(3, 3, |_, _| uniform() - 0.5);
+                let cov = (&a * a.transpose() + DMatrix::identity(3, 3)) * (spread * spread * wide);
+                Gaussian::new(uniform(), mean, cov, Label(i as u64 % 50))
+            })
+            .collect();
+        let mixture = GaussianMixture::from_components(components);
+        for (prune, merge, cap) in [(1e-3, 4.0, 1000), (0.2, 1.0, 40), (0.0, 16.0, 7)] {
+            let reducer = PruneMergeCap::new(prune, merge, cap).unwrap();
+            assert_eq!(
+                reducer.reduce(&mixture),
+                reduce_by_full_scan(&reducer, &mixture)
+            );
+        }
     }
 
     #[test]

@@ -12,9 +12,11 @@
 //! The rules and what they cost in accuracy are in [`crate::gating`].
 //!
 //! **Cost.** Per component, once: the projection into measurement space (a slice, or an
-//! unscented transform) and the Cholesky factor of the innovation covariance. Per pair: a
-//! residual, a bounding-box test of the gate and, inside it, a forward substitution that
-//! stops as soon as the distance leaves the gate — no allocation. Gain and posterior
+//! unscented transform) and the Cholesky factor of the innovation covariance. With a gate,
+//! the measurements are sorted along one unwrapped dimension and each component meets only
+//! those within its gate's extent there ([`candidates`]). Per remaining pair: a residual, a
+//! bounding-box test of the gate and, inside it, a forward substitution that stops as soon
+//! as the distance leaves the gate — no allocation. Gain and posterior
 //! covariance do not depend on z: they are computed once per component that has a kept
 //! pair and shared by its children; only an emitted child allocates (its mean and its copy
 //! of the covariance). Components are prepared, measurements scored and corrections
@@ -23,6 +25,7 @@
 //! the output is identical, component for component, on any number of threads. Children
 //! are emitted serially: that part is allocation, which does not scale across threads.
 
+mod candidates;
 mod component;
 mod correction;
 mod pairs;
@@ -36,6 +39,7 @@ use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
 use crate::ukf::UnscentedParams;
+use candidates::CandidateIndex;
 use component::{Detectable, Projection};
 use correction::Correction;
 use pairs::{MeasurementPairs, PairRules, Scratch};
@@ -233,19 +237,32 @@ pub(crate) fn update_parts<'p>(
         gate,
         min_weight: gating.min_weight,
     };
-    let pair_work = parallel(detectable.len() * measurements.len() * PAIR_NS);
-    let scored: Vec<MeasurementPairs> = if pair_work {
+    // With a gate, each measurement meets only the components whose gate reaches it along
+    // the sensor's index dimension; the rest would fail the box test anyway.
+    let index = step
+        .sensor
+        .index_dim()
+        .filter(|_| gate < f64::INFINITY)
+        .map(|dim| CandidateIndex::build(&detectable, measurements, dim));
+    let nearby = |j: usize| index.as_ref().and_then(|index| index.candidates(j));
+    let pair_count: usize = (0..measurements.len())
+        .map(|j| nearby(j).map_or(detectable.len(), <[usize]>::len))
+        .sum();
+    let score = |scratch: &mut Scratch, (j, m): (usize, &Measurement)| {
+        pairs::score(&detectable, nearby(j), m, &rules, scratch)
+    };
+    let scored: Vec<MeasurementPairs> = if parallel(pair_count * PAIR_NS) {
         measurements
             .par_iter()
-            .map_init(Scratch::default, |scratch, m| {
-                pairs::score(&detectable, m, &rules, scratch)
-            })
+            .enumerate()
+            .map_init(Scratch::default, score)
             .collect()
     } else {
         let mut scratch = Scratch::default();
         measurements
             .iter()
-            .map(|m| pairs::score(&detectable, m, &rules, &mut scratch))
+            .enumerate()
+            .map(|jm| score(&mut scratch, jm))
             .collect()
     };
 

@@ -3,9 +3,10 @@
 
 use gmphd::update::{update_gated, UpdateStep};
 use gmphd::{
-    BirthTiming, ConstantVelocity, Detection, FilterConfig, Gating, Gaussian, GaussianMixture,
-    GmPhdFilter, Label, Measurement, MeasurementModel, MixtureBirth, MotionModel, PinholeCamera,
-    PositionSensor, PruneMergeCap, Survival, UnscentedParams,
+    BearingRange, BirthTiming, ConstantVelocity, Detection, FilterConfig, FilterError, Gating,
+    Gaussian, GaussianMixture, GmPhdFilter, Label, Lidar, Measurement, MeasurementModel, MicPair,
+    MixtureBirth, MotionModel, PinholeCamera, PositionSensor, PruneMergeCap, Survival,
+    UnscentedParams,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3x4, Vector3};
 use rand::{Rng, SeedableRng};
@@ -228,4 +229,100 @@ fn bad_gating_is_a_typed_error() {
     assert!(filter().with_gating(negative_floor).is_err());
     let filter = filter().with_gating(Gating::OFF).unwrap();
     assert_eq!(filter.gating(), &Gating::OFF);
+}
+
+/// A sensor exactly like the one it wraps, except that it names no index dimension, so the
+/// update tests every pair.
+#[derive(Debug)]
+struct Unindexed<'a>(&'a dyn MeasurementModel);
+
+impl MeasurementModel for Unindexed<'_> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
+        self.0.measure(p)
+    }
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
+        self.0.measure_into(p, out)
+    }
+    fn noise_cov(&self) -> DMatrix<f64> {
+        self.0.noise_cov()
+    }
+    fn detection_probability(&self, p: &Vector3<f64>) -> f64 {
+        self.0.detection_probability(p)
+    }
+    fn clutter_rate(&self) -> f64 {
+        self.0.clutter_rate()
+    }
+    fn clutter_density(&self) -> f64 {
+        self.0.clutter_density()
+    }
+    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
+        self.0.residual(z, zhat)
+    }
+    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
+        self.0.residual_into(z, zhat, out)
+    }
+    fn linear_position_dims(&self) -> Option<usize> {
+        self.0.linear_position_dims()
+    }
+    fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {
+        self.0.sample_clutter(u)
+    }
+}
+
+#[test]
+fn the_candidate_index_changes_nothing() {
+    let detection = || Detection::new(0.9, 8.0).unwrap();
+    let sensors: Vec<Box<dyn MeasurementModel>> = vec![
+        Box::new(camera()),
+        Box::new(PositionSensor::new(&[0.1; 3], &[0.0; 3], &[3.0, 2.0, 2.0], detection()).unwrap()),
+        Box::new(
+            Lidar::new(
+                [-1.0, 1.0, 1.5],
+                [1.0, 0.0, 0.0, 0.0],
+                [0.05, 0.01, 0.01],
+                20.0,
+                [-0.6, 0.6],
+                detection(),
+            )
+            .unwrap(),
+        ),
+        // Its bearing wraps (the room lies across ±π seen from here): it indexes by range.
+        Box::new(BearingRange::new([4.0, 1.0, 0.0], [0.05, 0.1], 10.0, detection()).unwrap()),
+        Box::new(
+            MicPair::new(
+                [1.25, 0.0, 1.2],
+                [1.75, 0.0, 1.2],
+                MicPair::DEFAULT_SPEED_OF_SOUND,
+                6.25e-5,
+                detection(),
+            )
+            .unwrap(),
+        ),
+    ];
+    let motion = ConstantVelocity::new(3, 1.0).unwrap();
+    let unscented = UnscentedParams::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    for sensor in &sensors {
+        let prior = mixture(120, &mut rng);
+        let mut set = measurements(sensor.as_ref(), &motion, &prior, 30, &mut rng);
+        // One measurement with its own covariance, which is never indexed.
+        let own = set[0].z.clone();
+        set.push(Measurement::with_cov(own, sensor.noise_cov() * 4.0));
+        let unindexed = Unindexed(sensor.as_ref());
+        let update = |sensor: &dyn MeasurementModel| {
+            let step = UpdateStep {
+                motion: &motion,
+                sensor,
+                unscented: &unscented,
+            };
+            update_gated(&prior, &step, &Gating::default(), &set).unwrap()
+        };
+        let indexed = update(sensor.as_ref());
+        assert!(sensor.index_dim().is_some());
+        assert_eq!(indexed, update(&unindexed), "{sensor:?}");
+        assert!(indexed.posterior.len() > prior.len(), "{sensor:?}");
+    }
 }

@@ -10,7 +10,7 @@
 //!    same rate (an echo session), so the figures are comparable;
 //! 3. the server's peak resident memory (VmHWM).
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::process::Command;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -50,6 +50,12 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
     }
     let rank = (q * sorted.len() as f64).ceil() as usize;
     sorted[rank.saturating_sub(1).min(sorted.len() - 1)]
+}
+
+/// When the first TrackSet that includes the set stamped `stamp_bits` arrived: the first one
+/// stamped at or after it (sets are processed in stamp order).
+fn covering(received: &BTreeMap<u64, Instant>, stamp_bits: u64) -> Option<Instant> {
+    received.range(stamp_bits..).next().map(|(_, at)| *at)
 }
 
 fn peak_memory_kib(pid: u32) -> Option<u64> {
@@ -112,8 +118,10 @@ async fn main() -> anyhow::Result<()> {
     }
     .open()
     .await?;
-    // Receipt time of each TrackSet, by the bits of its stamp.
-    let received: Arc<Mutex<HashMap<u64, Instant>>> = Arc::default();
+    // Receipt time of each TrackSet, by the bits of its stamp (positive stamps order like
+    // their bits). The server publishes only the latest TrackSet of a batch of sets, so a
+    // set's tracks are in the first TrackSet stamped at or after it (`covering`).
+    let received: Arc<Mutex<BTreeMap<u64, Instant>>> = Arc::default();
     let sink = received.clone();
     let _tracks = session
         .declare_subscriber(keys::tracks_key(&site))
@@ -170,7 +178,9 @@ async fn main() -> anyhow::Result<()> {
         if i >= args.window {
             let waited_for = throughput_sets[i - args.window].stamp.to_bits();
             let deadline = Instant::now() + Duration::from_secs(10);
-            while !received.lock().unwrap().contains_key(&waited_for) && Instant::now() < deadline {
+            while covering(&received.lock().unwrap(), waited_for).is_none()
+                && Instant::now() < deadline
+            {
                 tokio::time::sleep(Duration::from_micros(200)).await;
             }
         }
@@ -181,7 +191,7 @@ async fn main() -> anyhow::Result<()> {
     }
     let last = throughput_sets.last().map(|s| s.stamp.to_bits());
     while let Some(last) = last {
-        if received.lock().unwrap().contains_key(&last)
+        if covering(&received.lock().unwrap(), last).is_some()
             || began.elapsed() > Duration::from_secs(120)
         {
             break;
@@ -265,7 +275,7 @@ async fn main() -> anyhow::Result<()> {
     let mut service: Vec<f64> = Vec::new();
     let mut bare: Vec<f64> = Vec::new();
     for (stamp, at, id, echo_at) in &sent {
-        if let Some(done) = received.get(stamp) {
+        if let Some(done) = covering(&received, *stamp) {
             service.push(done.duration_since(*at).as_secs_f64() * 1000.0);
         }
         if let Some(done) = echoed.get(id) {

@@ -5,6 +5,7 @@ use super::{LabelError, LabelSet, Relabelling};
 use crate::extract::Estimate;
 use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 use crate::linalg::MahalanobisGate;
+use crate::sweep::IntervalHits;
 use nalgebra::DMatrix;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -45,14 +46,28 @@ pub fn inherited_label_sets(
     }
     let mut gates = vec![MahalanobisGate::default(); pre_reduction.len()];
     let mut scratch = Vec::new();
+    // The gate fails when the first coordinate alone is farther than √(U P₀₀): only the
+    // components within that of an estimate are tested (in component order, as a full
+    // scan would visit them).
+    let queries: Vec<Option<f64>> = estimates.iter().map(|e| e.mean.get(0).copied()).collect();
+    let near = IntervalHits::build(
+        &queries,
+        pre_reduction.iter().map(|c| {
+            let centre = c.mean.get(0).copied().unwrap_or(f64::NAN);
+            let variance = c.cov.get((0, 0)).copied().unwrap_or(f64::NAN);
+            (centre, (merge_threshold * variance).sqrt())
+        }),
+    );
     estimates
         .iter()
-        .map(|estimate| {
+        .enumerate()
+        .map(|(e, estimate)| {
             // Weights come from the contributing components only, so that the
             // fallback label (the heaviest in the set) is Pham's "largest weight
             // Gaussian contributing to this component".
             let mut set = LabelSet::single(estimate.label, 0.0);
-            for (component, gate) in pre_reduction.iter().zip(&mut gates) {
+            for &c in near.hits(e) {
+                let (component, gate) = (&pre_reduction.components[c], &mut gates[c]);
                 let strict = |cov: &DMatrix<f64>| cov.clone().cholesky().map(|c| c.unpack());
                 let close = gate.contains(
                     &component.cov,

@@ -98,6 +98,11 @@ impl MeasurementModel for BearingRange {
         wrapped_residual_into(z, zhat, &[0], out);
     }
 
+    /// Range: never wrapped.
+    fn index_dim(&self) -> Option<usize> {
+        Some(1)
+    }
+
     fn invert_with_noise(
         &self,
         z: &DVector<f64>,

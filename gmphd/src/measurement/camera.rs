@@ -126,6 +126,11 @@ impl MeasurementModel for PinholeCamera {
         wrapped_residual_into(z, zhat, &[], out);
     }
 
+    /// U (pixels): never wrapped.
+    fn index_dim(&self) -> Option<usize> {
+        Some(0)
+    }
+
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {
         check_uniforms(u, 2)?;
         Ok(DVector::from_vec(vec![

@@ -123,6 +123,11 @@ impl MeasurementModel for Lidar {
         wrapped_residual_into(z, zhat, &[1], out);
     }
 
+    /// Range: never wrapped.
+    fn index_dim(&self) -> Option<usize> {
+        Some(0)
+    }
+
     fn invert_with_noise(
         &self,
         z: &DVector<f64>,

@@ -93,6 +93,11 @@ impl MeasurementModel for MicPair {
         wrapped_residual_into(z, zhat, &[], out);
     }
 
+    /// The delay: never wrapped.
+    fn index_dim(&self) -> Option<usize> {
+        Some(0)
+    }
+
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {
         check_uniforms(u, 1)?;
         let max = self.max_delay();

@@ -129,6 +129,15 @@ pub trait MeasurementModel: Send + Sync + Debug {
         out.copy_from_slice(r.as_slice());
     }
 
+    /// A dimension whose residual is the plain difference z_i − ẑ_i (not an angle that
+    /// [`MeasurementModel::residual_into`] wraps). The gated update sorts measurements along
+    /// it so that each component meets only the measurements inside its gate's extent there,
+    /// instead of every measurement. `None` (the default, right for any model) makes the
+    /// update test every pair; the built-in models name their first unwrapped dimension.
+    fn index_dim(&self) -> Option<usize> {
+        None
+    }
+
     /// `Some(d)` when h(p) = p[..d], i.e. the model is linear in the position and
     /// the exact Kalman update applies; `None` for nonlinear models.
     fn linear_position_dims(&self) -> Option<usize> {

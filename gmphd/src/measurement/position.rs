@@ -126,6 +126,11 @@ impl MeasurementModel for PositionSensor {
         wrapped_residual_into(z, zhat, &[], out);
     }
 
+    /// X: never wrapped.
+    fn index_dim(&self) -> Option<usize> {
+        Some(0)
+    }
+
     fn linear_position_dims(&self) -> Option<usize> {
         Some(self.dims)
     }

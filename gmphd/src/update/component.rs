@@ -163,6 +163,11 @@ impl Innovation {
         &self.data[..self.dim * self.dim]
     }
 
+    /// √(γ S_ii): the gate's extent along measurement dimension `i` (+∞ without a gate).
+    pub(super) fn half_width(&self, i: usize) -> f64 {
+        self.data[self.dim * self.dim + i]
+    }
+
     /// True when some entry of `residual` alone puts the pair outside the gate.
     pub(super) fn outside_box(&self, residual: &[f64]) -> bool {
         residual

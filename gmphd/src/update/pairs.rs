@@ -40,17 +40,37 @@ pub(super) struct MeasurementPairs {
     pub(super) residuals: Vec<f64>,
 }
 
-/// Gates, weighs and keeps the pairs of `measurement` with every detectable component.
+/// Gates, weighs and keeps the pairs of `measurement` with the detectable components:
+/// those listed in `nearby` (ascending; see [`super::candidates`]), or all when `None`.
 ///
 /// A measurement with its own noise covariance needs an innovation factor per pair; it
 /// is computed only for pairs inside the gate's bounding box.
 pub(super) fn score(
     detectable: &[Detectable<'_>],
+    nearby: Option<&[usize]>,
     measurement: &Measurement,
     rules: &PairRules<'_>,
     scratch: &mut Scratch,
 ) -> MeasurementPairs {
-    gate_candidates(detectable, measurement, rules.sensor, rules.gate, scratch);
+    let all = || 0..detectable.len();
+    match nearby {
+        Some(nearby) => gate_candidates(
+            detectable,
+            nearby.iter().copied(),
+            measurement,
+            rules.sensor,
+            rules.gate,
+            scratch,
+        ),
+        None => gate_candidates(
+            detectable,
+            all(),
+            measurement,
+            rules.sensor,
+            rules.gate,
+            scratch,
+        ),
+    }
     if scratch.candidates.is_empty()
         && rules.log_clutter == f64::NEG_INFINITY
         && rules.gate < f64::INFINITY
@@ -59,6 +79,7 @@ pub(super) fn score(
         // turn it into nothing, so its pairs are weighed as without a gate.
         gate_candidates(
             detectable,
+            all(),
             measurement,
             rules.sensor,
             f64::INFINITY,
@@ -69,9 +90,10 @@ pub(super) fn score(
 }
 
 /// Fills `scratch.candidates` (and their residuals) with the pairs of `measurement`
-/// inside the gate `gate`.
+/// with the components `indices` (ascending) that lie inside the gate `gate`.
 fn gate_candidates(
     detectable: &[Detectable<'_>],
+    indices: impl Iterator<Item = usize>,
     measurement: &Measurement,
     sensor: &dyn MeasurementModel,
     gate: f64,
@@ -83,7 +105,8 @@ fn gate_candidates(
     scratch.candidates.clear();
     scratch.candidate_residuals.clear();
     let z = measurement.z.as_slice();
-    for (k, d) in detectable.iter().enumerate() {
+    for k in indices {
+        let d = &detectable[k];
         sensor.residual_into(z, d.predicted_z(), &mut scratch.residual);
         let log_q = match &measurement.cov {
             None => {

@@ -51,16 +51,28 @@ pub(super) fn project(
     scratch.residual.resize(m, 0.0);
     scratch.point.clone_from(&component.mean);
     // Point 0 is the mean, point 1 + i is mean + column i, point 1 + n + i mean − column i.
-    for j in 0..points {
-        if j > 0 {
-            let (column, sign) = ((j - 1) % n, if j <= n { 1.0 } else { -1.0 });
-            for (r, x) in scratch.point.iter_mut().enumerate() {
-                *x = component.mean[r] + sign * scratch.root[r + column * n];
-            }
+    let centre = step.motion.position(&component.mean);
+    let (first, rest) = scratch.outputs.split_at_mut(m);
+    step.sensor.measure_into(&centre, first);
+    for (j, output) in rest.chunks_exact_mut(m).enumerate() {
+        let (column, sign) = if j < n { (j, 1.0) } else { (j - n, -1.0) };
+        let root_column = &scratch.root[column * n..(column + 1) * n];
+        for ((x, mean), l) in scratch
+            .point
+            .iter_mut()
+            .zip(&component.mean)
+            .zip(root_column)
+        {
+            *x = mean + sign * l;
         }
         let position = step.motion.position(&scratch.point);
-        step.sensor
-            .measure_into(&position, &mut scratch.outputs[j * m..(j + 1) * m]);
+        if position == centre {
+            // A column that moves only the unseen part of the state (a velocity, once the
+            // factor has taken the position's share): the mean's image, without measuring.
+            output.copy_from_slice(first);
+        } else {
+            step.sensor.measure_into(&position, output);
+        }
     }
 
     // ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀): angular outputs near ±π average correctly.
@@ -99,7 +111,7 @@ pub(super) fn project(
         }
         // x_j − x_0 is ± a column of the root (zero for the centre point).
         if j > 0 {
-            let (column, signed_weight) = ((j - 1) % n, if j <= n { w } else { -w });
+            let (column, signed_weight) = if j <= n { (j - 1, w) } else { (j - 1 - n, -w) };
             let dx = &scratch.root[column * n..(column + 1) * n];
             for (c, cross_column) in cross_cov.as_mut_slice().chunks_exact_mut(n).enumerate() {
                 let scaled = signed_weight * dy[c];
