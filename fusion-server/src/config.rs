@@ -85,6 +85,12 @@ const ADAPTIVE_BIRTH_RATE: f64 = 0.05;
 /// Default `filter.adaptive_birth_velocity_std`, m/s: walking pace.
 const ADAPTIVE_BIRTH_VELOCITY_STD: f64 = 1.0;
 
+/// Default `filter.birth_interval_s`: 50 additions per second, as many as sets arrive from one
+/// fast camera. In the room replay (`tests/replay_room.rs`, 7 sensors) 0.02 s gives the same
+/// OSPA and count as births at every set, while 0.05–0.2 s cost 1–2 % of right counts: each
+/// addition then carries more mass, and its children near tracked people weigh more.
+const BIRTH_INTERVAL_S: f64 = 0.02;
+
 /// `[filter]`: motion model, birth, survival and mixture reduction.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -109,6 +115,10 @@ pub struct FilterConfig {
     pub birth_position_std: f64,
     /// Standard deviation of a birth component's velocity, m/s.
     pub birth_velocity_std: f64,
+    /// Least time between two additions of `birth`'s components, seconds: they are added for
+    /// all the time owed at once, so the birth rate is unchanged while sets arriving every
+    /// few milliseconds do not each carry (and prune) a full grid of births. 0: every set.
+    pub birth_interval_s: f64,
     /// Measurement-driven birth (Ristic et al. 2012) in addition to `birth`: each measurement
     /// of a sensor that can be inverted to a world point (LIDAR, position, bearing–range) and
     /// that the tracks do not explain becomes a birth of the next prediction, anywhere.
@@ -141,6 +151,7 @@ impl Default for FilterConfig {
             birth_means: Vec::new(),
             birth_position_std: 0.6,
             birth_velocity_std: 0.5,
+            birth_interval_s: BIRTH_INTERVAL_S,
             adaptive_birth: true,
             adaptive_birth_rate: ADAPTIVE_BIRTH_RATE,
             adaptive_birth_velocity_std: ADAPTIVE_BIRTH_VELOCITY_STD,
@@ -387,6 +398,12 @@ impl FilterConfig {
         positive("filter.birth_rate", self.birth_rate)?;
         positive("filter.birth_position_std", self.birth_position_std)?;
         positive("filter.birth_velocity_std", self.birth_velocity_std)?;
+        if !(self.birth_interval_s.is_finite() && self.birth_interval_s >= 0.0) {
+            return Err(invalid(
+                "filter.birth_interval_s",
+                format!("{}: must be a finite number >= 0", self.birth_interval_s),
+            ));
+        }
         positive("filter.adaptive_birth_rate", self.adaptive_birth_rate)?;
         positive(
             "filter.adaptive_birth_velocity_std",

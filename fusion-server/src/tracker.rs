@@ -85,7 +85,8 @@ impl Tracker {
                 unscented: UnscentedParams::default(),
             },
             0.0,
-        )?;
+        )?
+        .with_birth_interval(f.birth_interval_s)?;
         let filter = if f.adaptive_birth {
             filter.with_adaptive_birth(AdaptiveBirthConfig {
                 rate: f.adaptive_birth_rate,

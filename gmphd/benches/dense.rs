@@ -9,7 +9,8 @@
 //! across the volume, 2 position sensors (σ = 0.5 m and 1 × 1 × 0.3 m) — with p_D 0.9 (0.85
 //! for the position sensors) and 20 clutter points per set. The filter is the one
 //! `fusion-loadbench` makes the server build: 3-D constant velocity (σ_a = 1 m/s²), p_S 0.99
-//! per second, an 8 × 8 × 2 birth grid (0.2 births/s, velocity σ 0.5 m/s), adaptive birth
+//! per second, an 8 × 8 × 2 birth grid (0.2 births/s, velocity σ 0.5 m/s, added every 0.02 s as
+//! the server's default `birth_interval_s`), adaptive birth
 //! (0.05 per set, velocity σ 1 m/s), T = 1e-5, U = 4, J_max = 1000, the server's track
 //! manager.
 //!
@@ -119,6 +120,8 @@ fn tracker() -> LabelledTracker {
         },
         0.0,
     )
+    .unwrap()
+    .with_birth_interval(0.02)
     .unwrap()
     .with_adaptive_birth(AdaptiveBirthConfig {
         rate: 0.05,

@@ -215,6 +215,7 @@ fn restore_rejects_a_malformed_checkpoint() {
         time: 0.0,
         next_label: 2,
         pending_births: Vec::new(),
+        birth_owed_s: 0.0,
     };
     assert!(phd.restore(wrong_dim).is_err());
     let negative = FilterState {
@@ -227,6 +228,7 @@ fn restore_rejects_a_malformed_checkpoint() {
         time: 0.0,
         next_label: 2,
         pending_births: Vec::new(),
+        birth_owed_s: 0.0,
     };
     assert!(phd.restore(negative).is_err());
 }
