@@ -315,7 +315,9 @@ mod tests {
             cols_used.sort_unstable();
             cols_used.dedup();
             assert_eq!(cols_used.len(), grouped.len());
-            assert!(grouped.iter().all(|p| costs.get(p.row, p.col) == Some(p.cost)));
+            assert!(grouped
+                .iter()
+                .all(|p| costs.get(p.row, p.col) == Some(p.cost)));
         }
     }
 }

@@ -111,6 +111,44 @@ pub fn nearest_spd(matrix: &DMatrix<f64>) -> DMatrix<f64> {
 /// from 1e-12 of the diagonal up to far beyond the matrix's own scale).
 const MAX_JITTER_ROUNDS: usize = 30;
 
+/// Cholesky factorisation of the m × m matrix with entries `a(r, c)` (its lower triangle is
+/// read) into `lower`, column-major with zeros above the diagonal; false when the matrix is
+/// not numerically positive definite.
+pub(crate) fn lower_cholesky(m: usize, a: impl Fn(usize, usize) -> f64, lower: &mut [f64]) -> bool {
+    for j in 0..m {
+        let mut diagonal = a(j, j);
+        for k in 0..j {
+            diagonal -= lower[j + k * m] * lower[j + k * m];
+        }
+        if diagonal <= 0.0 || diagonal.is_nan() {
+            return false;
+        }
+        let l_jj = diagonal.sqrt();
+        lower[j + j * m] = l_jj;
+        for i in j + 1..m {
+            let mut v = a(i, j);
+            for k in 0..j {
+                v -= lower[i + k * m] * lower[j + k * m];
+            }
+            lower[i + j * m] = v / l_jj;
+        }
+        for i in 0..j {
+            lower[i + j * m] = 0.0;
+        }
+    }
+    true
+}
+
+/// The lower Cholesky factor of `matrix` (its lower triangle is read), or `None` when it is
+/// not numerically positive definite: [`lower_cholesky`] into a matrix, without nalgebra's
+/// general machinery (the gates of the reducer and of label ancestry factor many small
+/// covariances per set).
+pub(crate) fn lower_factor(matrix: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = matrix.nrows();
+    let mut lower = DMatrix::zeros(n, n);
+    lower_cholesky(n, |r, c| matrix[(r, c)], lower.as_mut_slice()).then_some(lower)
+}
+
 /// Cholesky factor of a covariance, repairing it with [`nearest_spd`] when needed.
 ///
 /// Never fails and never loops forever: a matrix that cannot be repaired (only

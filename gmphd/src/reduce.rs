@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture};
-use crate::linalg::{robust_cholesky, symmetrize, MahalanobisGate};
+use crate::linalg::{lower_factor, robust_cholesky, symmetrize, MahalanobisGate};
 use crate::sweep;
 
 /// Keeps the number of Gaussian components bounded between updates.
@@ -77,6 +77,10 @@ fn heaviest_first(a: (usize, &Gaussian), b: (usize, &Gaussian)) -> Ordering {
 
 /// Moment-matched merge of `members` (indices into `kept`), labelled by `kept[members[0]]`.
 fn merge(kept: &[&Gaussian], members: &[usize]) -> Gaussian {
+    if let [only] = members {
+        // Nothing to match: the component itself (the moments below would only add rounding).
+        return kept[*only].clone();
+    }
     let weight: f64 = members.iter().map(|&i| kept[i].weight).sum();
     let dim = kept[members[0]].dim();
     let mut mean = DVector::zeros(dim);
@@ -167,7 +171,9 @@ impl Reducer for PruneMergeCap {
                     continue;
                 }
                 let (candidate, gate) = (kept[i], &mut gates[i]);
-                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
+                let robust = |cov: &DMatrix<f64>| {
+                    lower_factor(cov).or_else(|| Some(robust_cholesky(cov).unpack()))
+                };
                 if candidate.dim() == centre.len()
                     && gate.contains(
                         &candidate.cov,

@@ -69,7 +69,9 @@ fn the_time_owed_survives_a_checkpoint() {
     assert!((state.birth_owed_s - 0.03).abs() < 1e-12);
     let json = serde_json::to_string(&state).unwrap();
     let mut resumed = filter(0.1).unwrap();
-    resumed.restore(serde_json::from_str(&json).unwrap()).unwrap();
+    resumed
+        .restore(serde_json::from_str(&json).unwrap())
+        .unwrap();
     for filter in [&mut original, &mut resumed] {
         filter.predict_to(0.09).unwrap();
         assert!(filter.intensity().is_empty());

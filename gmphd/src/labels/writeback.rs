@@ -4,9 +4,8 @@
 use super::{LabelError, LabelSet, Relabelling};
 use crate::extract::Estimate;
 use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
-use crate::linalg::MahalanobisGate;
+use crate::linalg::{lower_factor, MahalanobisGate};
 use crate::sweep::IntervalHits;
-use nalgebra::DMatrix;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The inherited label set of each estimate, derived from the mixture *before*
@@ -68,7 +67,7 @@ pub fn inherited_label_sets(
             let mut set = LabelSet::single(estimate.label, 0.0);
             for &c in near.hits(e) {
                 let (component, gate) = (&pre_reduction.components[c], &mut gates[c]);
-                let strict = |cov: &DMatrix<f64>| cov.clone().cholesky().map(|c| c.unpack());
+                let strict = lower_factor;
                 let close = gate.contains(
                     &component.cov,
                     &component.mean,

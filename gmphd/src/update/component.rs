@@ -11,7 +11,7 @@ use nalgebra::DMatrix;
 
 use super::unscented::UnscentedMoments;
 use crate::gaussian::Gaussian;
-use crate::linalg::robust_cholesky;
+use crate::linalg::{lower_cholesky, robust_cholesky};
 
 /// ln 2π.
 const LN_TAU: f64 = 1.837_877_066_409_345_5;
@@ -116,34 +116,6 @@ impl<'a> Detectable<'a> {
             log_peak_inverse: 0.5 * (m as f64 * LN_TAU + log_det),
         }
     }
-}
-
-/// Cholesky factorisation of the m × m matrix with entries `a(r, c)` (its lower triangle is
-/// read) into `lower`, column-major with zeros above the diagonal; false when the matrix is
-/// not numerically positive definite.
-pub(super) fn lower_cholesky(m: usize, a: impl Fn(usize, usize) -> f64, lower: &mut [f64]) -> bool {
-    for j in 0..m {
-        let mut diagonal = a(j, j);
-        for k in 0..j {
-            diagonal -= lower[j + k * m] * lower[j + k * m];
-        }
-        if diagonal <= 0.0 || diagonal.is_nan() {
-            return false;
-        }
-        let l_jj = diagonal.sqrt();
-        lower[j + j * m] = l_jj;
-        for i in j + 1..m {
-            let mut v = a(i, j);
-            for k in 0..j {
-                v -= lower[i + k * m] * lower[j + k * m];
-            }
-            lower[i + j * m] = v / l_jj;
-        }
-        for i in 0..j {
-            lower[i + j * m] = 0.0;
-        }
-    }
-    true
 }
 
 /// The innovation covariance S = H P Hᵀ + R of one component and noise, factored.

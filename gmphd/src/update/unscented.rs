@@ -5,10 +5,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::component::lower_cholesky;
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
+use crate::linalg::lower_cholesky;
 use crate::linalg::robust_cholesky;
 
 /// Reusable buffers of the transform.
