@@ -55,6 +55,10 @@ pub struct TrackerConfig {
     pub merge_threshold: f64,
     /// Interval assumed before the very first set, so that its prediction has births.
     pub first_interval_s: f64,
+    /// Squared Mahalanobis distance beyond which a second heavy component of one label is
+    /// reported as a separate object ([`WeightThresholdExtractor::separation_gate`]).
+    #[serde(default = "default_separation_gate")]
+    pub separation_gate: f64,
     /// Track confirmation and deletion.
     pub tracks: TrackManagerConfig,
 }
@@ -65,9 +69,14 @@ impl Default for TrackerConfig {
             extraction_threshold: 0.5,
             merge_threshold: 4.0,
             first_interval_s: 0.1,
+            separation_gate: default_separation_gate(),
             tracks: TrackManagerConfig::default(),
         }
     }
+}
+
+fn default_separation_gate() -> f64 {
+    WeightThresholdExtractor::default().separation_gate
 }
 
 /// A labelled estimate of the previous step, kept to carry identities to the next one.
@@ -120,6 +129,7 @@ impl LabelledTracker {
             filter,
             extractor: WeightThresholdExtractor {
                 threshold: config.extraction_threshold,
+                separation_gate: config.separation_gate,
                 ..WeightThresholdExtractor::default()
             },
             config,

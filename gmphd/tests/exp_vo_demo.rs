@@ -131,6 +131,7 @@ fn tracker() -> LabelledTracker {
         extraction_threshold: 0.5,
         merge_threshold: MERGE_THRESHOLD,
         first_interval_s: 1.0,
+        separation_gate: std::env::var("SEP").map_or(25.0, |v| v.parse().unwrap()),
         tracks: TrackManagerConfig {
             confirm_threshold: 0.3,
             confirm_window: 3,

@@ -100,7 +100,8 @@ impl MeasurementModel for PinholeCamera {
         if self.depth(p) <= 0.0 {
             return 0.0;
         }
-        let z = self.measure(p);
+        let mut z = [0.0; 2];
+        self.measure_into(p, &mut z);
         let inside =
             (0.0..self.image_size[0]).contains(&z[0]) && (0.0..self.image_size[1]).contains(&z[1]);
         if inside {

@@ -97,7 +97,8 @@ impl MeasurementModel for Lidar {
     }
 
     fn detection_probability(&self, p: &Vector3<f64>) -> f64 {
-        let z = self.measure(p);
+        let mut z = [0.0; 3];
+        self.measure_into(p, &mut z);
         let [el_min, el_max] = self.elevation_limits;
         if z[0] <= self.max_range && z[2] >= el_min && z[2] <= el_max {
             self.detection.probability

@@ -87,11 +87,13 @@ impl<'a> Detectable<'a> {
         }
     }
 
-    /// Entry (r, c) of the state–measurement cross-covariance P Hᵀ.
-    pub(super) fn cross_cov(&self, r: usize, c: usize) -> f64 {
+    /// The state–measurement cross-covariance P Hᵀ, n × m, column-major: entry (r, c) is at
+    /// r + c·n (for a linear sensor, the first m columns of P).
+    pub(super) fn cross_cov(&self) -> &[f64] {
+        let (n, m) = (self.state_dim(), self.measurement_dim());
         match &self.projection {
-            Projection::Linear { .. } => self.component.cov[(r, c)],
-            Projection::Unscented(moments) => moments.cross_cov[(r, c)],
+            Projection::Linear { .. } => &self.component.cov.as_slice()[..n * m],
+            Projection::Unscented(moments) => moments.cross_cov.as_slice(),
         }
     }
 

@@ -25,11 +25,12 @@ impl Correction {
     pub(super) fn new(d: &Detectable<'_>, innovation: &Innovation, noise: &DMatrix<f64>) -> Self {
         let (n, m) = (d.state_dim(), d.measurement_dim());
         // Row i of K is S⁻¹ (row i of C), S being symmetric.
+        let cross = d.cross_cov();
         let mut gain = DMatrix::zeros(n, m);
         let mut row = vec![0.0; m.max(n * m)];
         for i in 0..n {
             for (k, x) in row.iter_mut().enumerate().take(m) {
-                *x = d.cross_cov(i, k);
+                *x = cross[i + k * n];
             }
             innovation.solve_in_place(&mut row[..m]);
             for k in 0..m {
@@ -39,10 +40,13 @@ impl Correction {
         let prior = &d.component.cov;
         // P − K Cᵀ; for a linear sensor this is B = (I − K H) P, as H P = Cᵀ.
         let mut posterior = prior.clone();
-        for j in 0..n {
-            for i in 0..n {
-                let kc: f64 = (0..m).map(|k| gain[(i, k)] * d.cross_cov(j, k)).sum();
-                posterior[(i, j)] -= kc;
+        let k_entries = gain.as_slice();
+        for (j, column) in posterior.as_mut_slice().chunks_exact_mut(n).enumerate() {
+            for (i, entry) in column.iter_mut().enumerate() {
+                let kc: f64 = (0..m)
+                    .map(|k| k_entries[i + k * n] * cross[j + k * n])
+                    .sum();
+                *entry -= kc;
             }
         }
         if d.is_linear() {

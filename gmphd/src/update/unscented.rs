@@ -37,7 +37,21 @@ pub(super) fn project(
     step: &UpdateStep<'_>,
     scratch: &mut UnscentedScratch,
 ) -> Result<UnscentedMoments, FilterError> {
-    let (n, m) = (component.dim(), step.sensor.dim());
+    // The common sizes get a copy of the transform compiled for them (loops of known length
+    // unrolled, most bounds checks gone); the arithmetic is the same in every copy.
+    with_common_sizes!((n, m) = (component.dim(), step.sensor.dim()) =>
+        project_sized(n, m, component, step, scratch))
+}
+
+/// [`project`] for a state of size `n` and measurements of size `m`.
+#[inline(always)]
+fn project_sized(
+    n: usize,
+    m: usize,
+    component: &Gaussian,
+    step: &UpdateStep<'_>,
+    scratch: &mut UnscentedScratch,
+) -> Result<UnscentedMoments, FilterError> {
     let weights = step.unscented.weights(n)?;
     scratch.root.resize(n * n, 0.0);
     let spread = weights.spread;
