@@ -20,7 +20,7 @@
 //! covariance do not depend on z: they are computed once per component that has a kept
 //! pair and shared by its children; only an emitted child allocates (its mean and its copy
 //! of the covariance). Components are prepared, measurements scored and corrections
-//! computed in parallel (rayon) when there is enough work (about 0.2 ms of it);
+//! computed in parallel (rayon) when there is enough work (about 2 ms of it);
 //! each item is computed the same way either way and results are collected in order, so
 //! the output is identical, component for component, on any number of threads. Children
 //! are emitted serially: that part is allocation, which does not scale across threads.
@@ -78,10 +78,11 @@ use pairs::{MeasurementPairs, PairRules, Scratch};
 use unscented::UnscentedScratch;
 
 /// Least work (in nanoseconds of one core, roughly) that is spread over the rayon pool:
-/// below it, handing work to another thread costs more than it saves. Measured on the
-/// shared 2-core machine of BENCHMARKS.md, where the second core was rarely idle, even
-/// 1–10 ms updates hardly gained from it; the threshold keeps small updates serial.
-const PARALLEL_MIN_WORK_NS: usize = 200_000;
+/// below it, handing work to another thread costs more than it saves. On the 2-vCPU machine
+/// of BENCHMARKS.md two threads were slower than one at every size measured (0.3–5 ms
+/// updates, the dense step), so only updates of several milliseconds go parallel, where a
+/// machine with real spare cores gains.
+const PARALLEL_MIN_WORK_NS: usize = 2_000_000;
 /// Rough single-core cost of the parts of the update, for [`parallel`].
 const PAIR_NS: usize = 10;
 const LINEAR_COMPONENT_NS: usize = 200;
