@@ -279,6 +279,8 @@ fn solve_group(costs: &CostMatrix) -> Vec<MatchedPair> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     /// Total cost and count of a matching.
     fn score(pairs: &[MatchedPair]) -> (usize, f64) {
@@ -287,13 +289,8 @@ mod tests {
 
     #[test]
     fn solving_groups_apart_is_as_good_as_solving_the_whole() {
-        let mut state = 99u64;
-        let mut uniform = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(99);
+        let mut uniform = move || rng.gen::<f64>();
         for trial in 0..200 {
             let (rows, cols) = (1 + trial % 13, 1 + (trial * 7) % 11);
             // Sparse: points on a line, pairs allowed only when close.

@@ -207,6 +207,8 @@ impl Reducer for PruneMergeCap {
 mod tests {
     use super::*;
     use crate::gaussian::Label;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     fn component(weight: f64, x: f64, label: u64) -> Gaussian {
         Gaussian::new(
@@ -274,13 +276,8 @@ mod tests {
         // Clusters of narrow components plus a few very wide ones (which the sweep keeps
         // aside), with correlated covariances so that the first coordinate alone decides
         // little.
-        let mut state = 12345u64;
-        let mut uniform = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(12345);
+        let mut uniform = move || rng.gen::<f64>();
         let components = (0..600)
             .map(|i| {
                 let cluster = (i % 20) as f64;
