@@ -103,6 +103,11 @@ pub struct FilterConfig {
     pub position_noise_std: f64,
     /// Probability that an object survives one second (p_S over Δt is this to the power Δt).
     pub survival_probability: f64,
+    /// Objects whose predicted position lies farther than this (metres) outside the site
+    /// volume do not survive. Without such a limit a component that drifts out of every
+    /// sensor's view keeps its weight for ever (p_D = 0 there) and becomes a false track or
+    /// spoils a real one (`gmphd::SurvivalRegion`). Set it large to track outside the volume.
+    pub survival_margin_m: f64,
     /// `grid` (components over the site volume) or `mixture` (`birth_means`).
     pub birth: String,
     /// Expected number of new objects per second over the whole volume.
@@ -145,6 +150,7 @@ impl Default for FilterConfig {
             accel_noise_std: 1.0,
             position_noise_std: 0.5,
             survival_probability: 0.99,
+            survival_margin_m: 0.25,
             birth: "grid".into(),
             birth_rate: 0.2,
             birth_grid: [4, 3, 1],
@@ -365,6 +371,12 @@ impl FilterConfig {
         positive("filter.accel_noise_std", self.accel_noise_std)?;
         positive("filter.position_noise_std", self.position_noise_std)?;
         probability("filter.survival_probability", self.survival_probability)?;
+        if !(self.survival_margin_m.is_finite() && self.survival_margin_m >= 0.0) {
+            return Err(invalid(
+                "filter.survival_margin_m",
+                format!("{}: must be a finite number >= 0", self.survival_margin_m),
+            ));
+        }
         match self.birth.as_str() {
             "grid" => {
                 if self.birth_grid.contains(&0) {

@@ -6,8 +6,8 @@ use gmphd::measurement::{Measurement, MeasurementModel};
 use gmphd::tracks::TrackManagerConfig;
 use gmphd::{
     AdaptiveBirthConfig, ConstantVelocity, FilterConfig as GmFilterConfig, GmPhdFilter,
-    LabelledTracker, MotionModel, PruneMergeCap, RandomWalk, Survival, TrackerConfig,
-    UnscentedParams,
+    LabelledTracker, MotionModel, PruneMergeCap, RandomWalk, Survival, SurvivalRegion,
+    TrackerConfig, UnscentedParams,
 };
 use nalgebra::{DMatrix, DVector};
 use protocol::{MeasurementSet, Track};
@@ -86,7 +86,21 @@ impl Tracker {
             },
             0.0,
         )?
-        .with_birth_interval(f.birth_interval_s)?;
+        .with_birth_interval(f.birth_interval_s)?
+        .with_survival_region(SurvivalRegion::new(
+            config
+                .site
+                .volume_min
+                .iter()
+                .map(|v| v - f.survival_margin_m)
+                .collect(),
+            config
+                .site
+                .volume_max
+                .iter()
+                .map(|v| v + f.survival_margin_m)
+                .collect(),
+        )?)?;
         let filter = if f.adaptive_birth {
             filter.with_adaptive_birth(AdaptiveBirthConfig {
                 rate: f.adaptive_birth_rate,

@@ -10,7 +10,7 @@ use crate::gaussian::{GaussianMixture, LabelSource};
 use crate::linalg::{check_finite_vector, check_spd};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
-use crate::predict::{predict_intensity, PredictionStep, Survival};
+use crate::predict::{predict_intensity, PredictionStep, Survival, SurvivalRegion};
 use crate::reduce::Reducer;
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
@@ -70,6 +70,8 @@ pub struct GmPhdFilter {
     intensity: GaussianMixture,
     time: f64,
     labels: LabelSource,
+    /// Objects outside it do not survive a prediction (none: no such limit).
+    survival_region: Option<SurvivalRegion>,
     /// Least time between two additions of the static births (0: every prediction).
     birth_interval_s: f64,
     /// Prediction time elapsed since the static births were last added.
@@ -109,10 +111,27 @@ impl GmPhdFilter {
             intensity: GaussianMixture::new(),
             time: start_time,
             labels: LabelSource::default(),
+            survival_region: None,
             birth_interval_s: 0.0,
             birth_owed_s: 0.0,
             last_association: Vec::new(),
         })
+    }
+
+    /// Objects whose predicted position leaves `region` (the surveillance volume, perhaps with
+    /// a margin) die in the prediction; see [`SurvivalRegion`] for why a tracker whose sensors
+    /// do not see everywhere needs it. Births are not affected (adaptive births outside die at
+    /// the next prediction).
+    pub fn with_survival_region(mut self, region: SurvivalRegion) -> Result<Self, FilterError> {
+        if region.dims() != self.motion.position_dims() {
+            return Err(FilterError::DimensionMismatch {
+                what: "survival region",
+                expected: self.motion.position_dims(),
+                found: region.dims(),
+            });
+        }
+        self.survival_region = Some(region);
+        Ok(self)
     }
 
     /// Adds the static model's births only once at least `seconds` of prediction have
@@ -227,6 +246,7 @@ impl GmPhdFilter {
             survival_probability: self.config.survival.probability(dt),
             spawn: self.spawn.as_ref(),
             dt,
+            region: self.survival_region.as_ref(),
         };
         self.intensity = predict_intensity(&self.intensity, &step, births, &mut self.labels)?;
         if let Some(adaptive) = &mut self.adaptive_birth {

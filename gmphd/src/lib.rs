@@ -40,7 +40,7 @@ pub use measurement::{
     PinholeCamera, PositionSensor,
 };
 pub use motion::{ConstantVelocity, CoordinatedTurn, MotionModel, RandomWalk};
-pub use predict::Survival;
+pub use predict::{Survival, SurvivalRegion};
 pub use reduce::{PruneMergeCap, Reducer};
 pub use spawn::{SpawnComponent, SpawnModel};
 pub use tracker::{LabelledTracker, TrackerConfig, TrackerError, TrackerState};

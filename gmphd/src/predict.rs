@@ -54,6 +54,49 @@ pub struct PredictionStep<'a> {
     pub spawn: Option<&'a SpawnModel>,
     /// Length of the step in seconds (≥ 0).
     pub dt: f64,
+    /// Predicted components whose position leaves this box die (see [`SurvivalRegion`]).
+    pub region: Option<&'a SurvivalRegion>,
+}
+
+/// A box of positions outside which objects do not survive (p_S = 0): the edge of the
+/// surveillance volume. Without it a component that drifts out of every sensor's field of
+/// view (a clutter return's child with a wrong velocity) has p_D = 0 there, so no update ever
+/// lowers its weight; it lives on with its parent's label, its covariance grows, and the
+/// reducer can merge the real track into it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurvivalRegion {
+    min: Vec<f64>,
+    max: Vec<f64>,
+}
+
+impl SurvivalRegion {
+    /// The box [`min`, `max`] (one bound per position dimension, `min < max`, finite).
+    pub fn new(min: Vec<f64>, max: Vec<f64>) -> Result<Self, FilterError> {
+        let valid = min.len() == max.len()
+            && !min.is_empty()
+            && min.iter().chain(&max).all(|v| v.is_finite())
+            && min.iter().zip(&max).all(|(lo, hi)| lo < hi);
+        if !valid {
+            return Err(invalid(
+                "survival region",
+                format!("{min:?} .. {max:?} is not a finite box with min < max"),
+            ));
+        }
+        Ok(Self { min, max })
+    }
+
+    /// Dimensions of the box.
+    pub fn dims(&self) -> usize {
+        self.min.len()
+    }
+
+    /// Whether `position` lies in the box (boundary included).
+    pub fn contains(&self, position: &[f64]) -> bool {
+        position
+            .iter()
+            .zip(self.min.iter().zip(&self.max))
+            .all(|(p, (lo, hi))| (lo..=hi).contains(&p))
+    }
 }
 
 /// Predicts the posterior `posterior` over one step and appends `births`.
@@ -79,6 +122,11 @@ pub fn predict_intensity(
     if step.survival_probability > 0.0 {
         for parent in posterior.iter() {
             let (mean, cov) = step.motion.predict(&parent.mean, &parent.cov, step.dt)?;
+            if let Some(region) = step.region {
+                if !region.contains(step.motion.position(&mean).as_slice()) {
+                    continue;
+                }
+            }
             components.push(Gaussian::new(
                 step.survival_probability * parent.weight,
                 mean,
@@ -118,12 +166,30 @@ mod tests {
             survival_probability: Survival::PerSecond(0.81).probability(0.5),
             spawn: None,
             dt: 0.5,
+            region: None,
         };
         let mut labels = LabelSource::starting_at(11);
         let predicted = predict_intensity(&posterior, &step, vec![birth], &mut labels).unwrap();
         assert_eq!(predicted.len(), 2);
         assert!((predicted.components[0].weight - 0.45).abs() < 1e-12);
         assert_eq!(predicted.components[0].label, Label(9));
+        // A region the survivor leaves (it moves to x = 0.5): only the birth is left.
+        let region = SurvivalRegion::new(vec![-1.0, -1.0], vec![0.4, 1.0]).unwrap();
+        let bounded = PredictionStep {
+            region: Some(&region),
+            ..step
+        };
+        let predicted_in_box = predict_intensity(
+            &posterior,
+            &bounded,
+            vec![predicted.components[1].clone()],
+            &mut labels,
+        )
+        .unwrap();
+        assert_eq!(predicted_in_box.len(), 1);
+        assert_eq!(predicted_in_box.components[0].label, Label(10));
+        assert!(SurvivalRegion::new(vec![0.0], vec![0.0]).is_err());
+        assert!(SurvivalRegion::new(vec![0.0, f64::NAN], vec![1.0, 1.0]).is_err());
         assert_eq!(
             predicted.components[0].mean.as_slice(),
             &[0.5, 1.0, 1.0, 2.0]

@@ -195,6 +195,20 @@ impl LabelledTracker {
                 predicted: position(&predicted),
             });
         }
+        // Confirmed tracks that gave no estimate last time (coasting through misses or a
+        // pause in the data) compete too: otherwise the birth that explains the object's next
+        // detection better than the weakened track would take it over under a new label.
+        // Their state is the label's heaviest component at the last set it was present in.
+        for track in self.tracks.confirmed_tracks() {
+            if self.previous.iter().any(|e| e.label == track.label) {
+                continue;
+            }
+            let (predicted, _) = motion.predict(&track.mean, &track.cov, dt)?;
+            previous.push(PreviousEstimate {
+                label: track.label,
+                predicted: position(&predicted),
+            });
+        }
         let current: Vec<CurrentEstimate> = estimates
             .iter()
             .zip(inherited)

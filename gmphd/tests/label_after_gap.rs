@@ -1,0 +1,130 @@
+//! A still person keeps one track with one label, also across a pause in the data (a server
+//! restart, a network split), with the server's default tracker for its default room.
+//!
+//! Two defects made this fail before (129 of 200 runs below kept one label with only the second
+//! fixed): a clutter return's child (or a birth at a clutter return) with a wrong velocity
+//! left the sensor's field of view, where p_D = 0 never lowers its weight, so it lived on —
+//! confirmed as a false track, or merged back into the person's track with its covariance of
+//! metres (fixed by `SurvivalRegion`: the site volume plus 0.25 m, as the server uses it); and
+//! a confirmed track weakened by misses or a gap gave no estimate, so the birth that explained
+//! the next detection better took the person over under a new label (fixed in
+//! `LabelledTracker`: coasting confirmed tracks take part in label association).
+//!
+//! Measured: one label from 2 s to the end in 160 of 200 runs (40 seeds × gaps of 0, 0.5, 0.7,
+//! 1 and 1.5 s); every run without a gap but one. Failures grow with the gap (3 of 40 runs at
+//! 0.5 s, 6 at 0.7 s, 14 at 1 s, 16 at 1.5 s); in the one examined (seed 9, 0.5 s), three consecutive misses just
+//! before the gap had left the track almost no mass.
+
+mod common;
+
+use common::simulate_set;
+use gmphd::tracks::TrackManagerConfig;
+use gmphd::{
+    AdaptiveBirthConfig, BirthTiming, ConstantVelocity, Detection, FilterConfig, GmPhdFilter,
+    GridBirth, GridBirthConfig, LabelledTracker, PositionSensor, PruneMergeCap, Survival,
+    SurvivalRegion, TrackerConfig, UnscentedParams,
+};
+use nalgebra::Vector3;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// The server's default tracker for its default room (3 × 2 × 2 m).
+fn tracker() -> LabelledTracker {
+    let grid = GridBirth::new(&GridBirthConfig {
+        region_min: vec![0.0, 0.0, 0.0],
+        region_max: vec![3.0, 2.0, 2.0],
+        cells: vec![4, 3, 1],
+        state_dim: 6,
+        velocity_std: 0.5,
+        extra_std: 0.0,
+        total_rate: 0.2,
+        timing: BirthTiming::PerSecond,
+    })
+    .unwrap();
+    let filter = GmPhdFilter::new(
+        Box::new(ConstantVelocity::new(3, 1.0).unwrap()),
+        Box::new(grid),
+        Box::new(PruneMergeCap::new(1e-5, 4.0, 100).unwrap()),
+        FilterConfig {
+            survival: Survival::PerSecond(0.99),
+            unscented: UnscentedParams::default(),
+        },
+        0.0,
+    )
+    .unwrap()
+    .with_birth_interval(0.02)
+    .unwrap()
+    .with_survival_region(
+        SurvivalRegion::new(vec![-0.25, -0.25, -0.25], vec![3.25, 2.25, 2.25]).unwrap(),
+    )
+    .unwrap()
+    .with_adaptive_birth(AdaptiveBirthConfig {
+        rate: 0.05,
+        velocity_std: 1.0,
+        min_weight: 1e-5,
+        ..AdaptiveBirthConfig::default()
+    })
+    .unwrap();
+    let config = TrackerConfig {
+        tracks: TrackManagerConfig {
+            confirm_threshold: 0.5,
+            confirm_window: 5,
+            confirm_hits: 3,
+            delete_threshold: 0.15,
+            delete_after_sets: 12,
+            max_coast_s: 1.0,
+        },
+        ..TrackerConfig::default()
+    };
+    LabelledTracker::new(filter, config).unwrap()
+}
+
+#[test]
+fn a_still_person_keeps_the_label_across_a_data_gap() {
+    let sensor = PositionSensor::new(
+        &[0.05, 0.05, 0.05],
+        &[0.0, 0.0, 0.0],
+        &[3.0, 2.0, 2.0],
+        Detection::new(0.9, 2.0).unwrap(),
+    )
+    .unwrap();
+    let person = [Vector3::new(1.5, 1.0, 1.7)];
+    let mut kept = 0;
+    let mut runs = 0;
+    let mut failures = Vec::new();
+    for gap_s in [0.0, 0.5, 0.7, 1.0, 1.5] {
+        for seed in 0..40 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let mut tracker = tracker();
+            let mut labels = Vec::new();
+            let times = (1..=30)
+                .map(|i| i as f64 * 0.1)
+                .chain((1..=20).map(|i| 3.0 + gap_s + i as f64 * 0.1));
+            for t in times {
+                tracker
+                    .step(t, &sensor, &simulate_set(&sensor, &person, &mut rng))
+                    .unwrap();
+                if t > 2.0 {
+                    labels.push(
+                        tracker
+                            .confirmed_tracks()
+                            .map(|t| t.label.0)
+                            .collect::<Vec<_>>(),
+                    );
+                }
+            }
+            runs += 1;
+            if labels.iter().all(|l| l.len() == 1 && *l == labels[0]) {
+                kept += 1;
+            } else {
+                failures.push((gap_s, seed));
+            }
+        }
+    }
+    println!(
+        "one track, one label from 2 s to the end in {kept} of {runs} runs; not in {failures:?}"
+    );
+    assert!(kept * 100 >= runs * 75, "{kept} of {runs}");
+    let without_gap = failures.iter().filter(|(gap, _)| *gap == 0.0).count();
+    assert!(without_gap <= 1, "{failures:?}");
+}
