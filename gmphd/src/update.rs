@@ -60,6 +60,7 @@ macro_rules! with_common_sizes {
 mod candidates;
 mod component;
 mod correction;
+mod detection;
 mod pairs;
 mod unscented;
 
@@ -137,8 +138,9 @@ pub fn update_with_association(
 /// Updates the predicted intensity with one sensor's measurement set under `gating` and
 /// reports each measurement's total association weight.
 ///
-/// p_D is evaluated at each component's predicted position; components the sensor
-/// cannot see pass through unchanged. Updated components keep their parent's
+/// p_D is evaluated at each component's predicted position, or averaged over its spread
+/// where that is outside the view ([`detection`]); components the sensor cannot see pass
+/// through unchanged. Updated components keep their parent's
 /// label. A measurement's own covariance replaces the sensor noise for it. An
 /// empty set only applies the missed-detection term. Components of exactly zero
 /// weight (underflow, p_D = 1 misses) are dropped since they carry no intensity.
@@ -225,8 +227,7 @@ pub(crate) fn update_parts<'p>(
     let mut missed = Vec::with_capacity(predicted.len());
     let mut seen = Vec::with_capacity(predicted.len());
     for (index, component) in predicted.iter().enumerate().filter(|(_, c)| c.weight > 0.0) {
-        let position = step.motion.position(&component.mean);
-        let p_d = step.sensor.detection_probability(&position).clamp(0.0, 1.0);
+        let p_d = detection::detection_probability(component, step);
         let missed_weight = (1.0 - p_d) * component.weight;
         if missed_weight > 0.0 {
             missed.push((index, missed_weight));
