@@ -12,7 +12,8 @@
 //!   `confirm_threshold`, and confirms it once that happened in `M` of the last
 //!   `N` sets (cf. MATLAB `trackerPHD` `ConfirmationThreshold`);
 //! * deletes a track only when its weight has stayed below `delete_threshold` for
-//!   `K` consecutive sets or for `max_coast_s` seconds, whichever comes first
+//!   `K` consecutive sets or for `max_coast_s` seconds, whichever comes first — or at once
+//!   when no component carries its label any more (nothing is left to coast on)
 //!   (cf. `DeletionThreshold`); a tentative track is also dropped once none of
 //!   the last `N` sets exceeded `confirm_threshold`.
 //!
@@ -272,7 +273,11 @@ impl TrackManager {
             let stale_tentative = !state.track.confirmed
                 && state.recent_weights.len() == config.confirm_window
                 && hits == 0;
-            let sustained_low = state.below_count >= config.delete_after_sets
+            // A label with no component left can never regain mass (label association only
+            // hands on labels that components inherited), so there is nothing to coast on.
+            let vanished = summary.is_none();
+            let sustained_low = vanished
+                || state.below_count >= config.delete_after_sets
                 || state
                     .below_since
                     .is_some_and(|since| time_s - since >= config.max_coast_s);

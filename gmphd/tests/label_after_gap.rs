@@ -12,11 +12,12 @@
 //! where p_D at the mean is 0, so the track neither decayed nor took the detection — fixed by
 //! averaging p_D over the component's spread there (`update/detection.rs`).
 //!
-//! Measured: one label from 2 s to the end in 165 of 200 runs (40 seeds × gaps of 0, 0.5, 0.7,
-//! 1 and 1.5 s; 129 with only (2), 160 with (1) and (2)); every run without a gap but one.
-//! Failures grow with the gap (2 of 40 runs at 0.5 s, 4 at 0.7 s, 12 at 1 s, 16 at 1.5 s); in
-//! the one examined (seed 9, 0.5 s), three consecutive misses just before the gap had left
-//! the track almost no mass.
+//! Measured: one label from 2 s to the end in 170 of 200 runs (40 seeds × gaps of 0, 0.5, 0.7,
+//! 1 and 1.5 s; 129 with only (2), 160 with (1) and (2), 165 with (3) too, 170 once a track
+//! whose label has no component left is deleted at once instead of coasting); every run
+//! without a gap. Failures grow with the gap (1 of 40 runs at 0.5 s, 3 at 0.7 s, 11 at 1 s,
+//! 15 at 1.5 s); in the one examined (seed 9, 0.5 s), three consecutive misses just before
+//! the gap had left the track almost no mass.
 
 mod common;
 
@@ -127,7 +128,9 @@ fn a_still_person_keeps_the_label_across_a_data_gap() {
     println!(
         "one track, one label from 2 s to the end in {kept} of {runs} runs; not in {failures:?}"
     );
-    assert!(kept * 100 >= runs * 75, "{kept} of {runs}");
-    let without_gap = failures.iter().filter(|(gap, _)| *gap == 0.0).count();
-    assert!(without_gap <= 1, "{failures:?}");
+    assert!(kept * 100 >= runs * 80, "{kept} of {runs}");
+    assert!(
+        failures.iter().all(|(gap, _)| *gap > 0.0),
+        "without a gap: {failures:?}"
+    );
 }
