@@ -25,38 +25,6 @@
 //! the output is identical, component for component, on any number of threads. Children
 //! are emitted serially: that part is allocation, which does not scale across threads.
 
-/// Evaluates `$body` with `$n` and `$m` (state and measurement sizes) bound to constants
-/// for the common sizes, so that an `#[inline(always)]` function called in `$body` gets a
-/// copy compiled for each of them: loops of known length are unrolled and most bounds
-/// checks vanish. Every copy does the same arithmetic; other sizes take the general copy.
-macro_rules! with_common_sizes {
-    (($n:ident, $m:ident) = $sizes:expr => $body:expr) => {
-        match $sizes {
-            (6, 2) => {
-                let ($n, $m) = (6, 2);
-                $body
-            }
-            (6, 3) => {
-                let ($n, $m) = (6, 3);
-                $body
-            }
-            (6, 1) => {
-                let ($n, $m) = (6, 1);
-                $body
-            }
-            (5, 2) => {
-                let ($n, $m) = (5, 2);
-                $body
-            }
-            (4, 2) => {
-                let ($n, $m) = (4, 2);
-                $body
-            }
-            ($n, $m) => $body,
-        }
-    };
-}
-
 mod candidates;
 mod component;
 mod correction;

@@ -10,8 +10,7 @@ use nalgebra::{DMatrix, DVectorView};
 
 use super::component::{Detectable, Innovation};
 use crate::gaussian::Gaussian;
-use crate::linalg::lower_cholesky;
-use crate::linalg::{nearest_spd, symmetrize_in_place};
+use crate::linalg::{lower_cholesky, nearest_spd, symmetrize_in_place};
 
 /// Gain and posterior covariance of one component and noise (independent of z).
 pub(super) struct Correction {

@@ -8,8 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
-use crate::linalg::lower_cholesky;
-use crate::linalg::robust_cholesky;
+use crate::linalg::{lower_cholesky, robust_cholesky};
 
 /// Reusable buffers of the transform.
 #[derive(Default)]
@@ -37,10 +36,17 @@ pub(super) fn project(
     step: &UpdateStep<'_>,
     scratch: &mut UnscentedScratch,
 ) -> Result<UnscentedMoments, FilterError> {
-    // The common sizes get a copy of the transform compiled for them (loops of known length
-    // unrolled, most bounds checks gone); the arithmetic is the same in every copy.
-    with_common_sizes!((n, m) = (component.dim(), step.sensor.dim()) =>
-        project_sized(n, m, component, step, scratch))
+    // The common sizes get a copy of the transform compiled for them (`project_sized` is
+    // inlined with constant sizes: loops of known length unrolled, most bounds checks gone);
+    // the arithmetic is the same in every copy.
+    match (component.dim(), step.sensor.dim()) {
+        (6, 2) => project_sized(6, 2, component, step, scratch),
+        (6, 3) => project_sized(6, 3, component, step, scratch),
+        (6, 1) => project_sized(6, 1, component, step, scratch),
+        (5, 2) => project_sized(5, 2, component, step, scratch),
+        (4, 2) => project_sized(4, 2, component, step, scratch),
+        (n, m) => project_sized(n, m, component, step, scratch),
+    }
 }
 
 /// [`project`] for a state of size `n` and measurements of size `m`.
