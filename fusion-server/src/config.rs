@@ -180,7 +180,8 @@ pub struct TracksConfig {
     /// See `confirm_hits`.
     pub confirm_window: usize,
     /// A confirmed track whose weight stays below this for `delete_after_sets` consecutive
-    /// sets or for `max_coast_s` seconds is deleted.
+    /// sets that could see it or for `max_coast_s` seconds is deleted (a pause in the data
+    /// longer than `max_coast_s / 2` does not count; see `gmphd::tracks`).
     pub delete_threshold: f64,
     /// See `delete_threshold`.
     pub delete_after_sets: usize,

@@ -138,6 +138,17 @@ pub struct PreviousEstimate {
     pub label: Label,
     /// Its state predicted to the current time (`x̂_{k|k-1}`).
     pub predicted: DVector<f64>,
+    /// True for an established identity (a confirmed track). Where a current estimate
+    /// could continue either an established label or a tentative one, it continues the
+    /// established one; see [`associate_labels`].
+    #[serde(default)]
+    pub established: bool,
+    /// For an established identity that is coasting (it gave no estimate last time): how
+    /// far from `predicted` (Euclidean, in the coordinates compared) a current estimate
+    /// that descends only from tentative or newborn labels may be and still continue this
+    /// identity. 0 (the default) for none; see [`associate_labels`].
+    #[serde(default)]
+    pub reach: f64,
 }
 
 /// A current estimate awaiting its label.
@@ -179,6 +190,19 @@ pub struct Relabelling {
 ///
 /// Distances are Euclidean over the full vectors given; pass positions only if
 /// velocities should not count. Fresh labels are drawn from `source`.
+///
+/// Among the matchings with the most pairs, those that continue the most *established*
+/// labels ([`PreviousEstimate::established`]) win, and only then the least total distance
+/// decides. Without that order, an object seen again after a pause in the data is taken
+/// over by a newborn label: its confirmed track has coasted with a covariance of metres,
+/// so the birth at its first new detection is nearer, and when the two components merge
+/// the nearer, tentative label would win and the person's identity would change.
+///
+/// A coasting established identity may also continue into a current estimate it is not
+/// an ancestor of, if that estimate descends only from tentative or newborn labels and
+/// lies within the identity's [`reach`](PreviousEstimate::reach): after a pause, or a run
+/// of misses, the object's mass can be gone from its track (merged into a wide component,
+/// or decayed), and the birth at its next detection is the same object, not a new one.
 pub fn associate_labels(
     previous: &[PreviousEstimate],
     current: &[CurrentEstimate],
@@ -195,12 +219,39 @@ pub fn associate_labels(
         return Err(LabelError::DuplicatePreviousLabel(dup.label.0));
     }
 
-    // Pham (4.2): an edge exists only where the previous label is inherited.
+    // Pham (4.2): an edge exists only where the previous label is inherited — or where a
+    // coasting established identity reaches an estimate of newborn or tentative descent.
+    let established: BTreeSet<Label> = previous
+        .iter()
+        .filter(|p| p.established)
+        .map(|p| p.label)
+        .collect();
+    let newborn: Vec<bool> = current
+        .iter()
+        .map(|c| !established.iter().any(|&label| c.inherited.contains(label)))
+        .collect();
+    let distance = |j: usize, i: usize| {
+        let d = (&current[i].mean - &previous[j].predicted).norm();
+        let inherited = current[i].inherited.contains(previous[j].label);
+        let reached = previous[j].established && newborn[i] && d <= previous[j].reach;
+        (inherited || reached).then_some(d)
+    };
+    // A pair continuing a tentative label costs more than any total distance, so that
+    // fewer tentative (more established) continuations always win; see the doc above.
+    let mut longest = 0.0_f64;
+    for j in 0..previous.len() {
+        for i in 0..current.len() {
+            longest = longest.max(distance(j, i).unwrap_or(0.0));
+        }
+    }
+    let tentative_cost = 1.0 + longest * previous.len().min(current.len()) as f64;
     let costs = CostMatrix::from_fn(previous.len(), current.len(), |j, i| {
-        current[i]
-            .inherited
-            .contains(previous[j].label)
-            .then(|| (&current[i].mean - &previous[j].predicted).norm())
+        let extra = if previous[j].established {
+            0.0
+        } else {
+            tentative_cost
+        };
+        distance(j, i).map(|d| d + extra)
     })?;
     let mut labels: Vec<Option<Label>> = vec![None; current.len()];
     let mut origins = vec![LabelOrigin::Fresh; current.len()];

@@ -19,6 +19,7 @@ use thiserror::Error;
 use crate::error::FilterError;
 use crate::extract::{ExtractError, StateExtractor, WeightThresholdExtractor};
 use crate::filter::{FilterState, GmPhdFilter};
+use crate::gating::chi_square_quantile;
 use crate::gaussian::{GaussianMixture, Label, LabelSource};
 use crate::labels::{
     apply_relabelling, associate_labels, inherited_label_sets, CurrentEstimate, LabelError,
@@ -26,6 +27,10 @@ use crate::labels::{
 };
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::tracks::{Track, TrackError, TrackEvents, TrackManager, TrackManagerConfig};
+
+/// Probability mass of a coasting track's predicted position within its reach: a birth
+/// inside that gate continues the track's identity ([`PreviousEstimate::reach`]).
+const COASTING_REACH_PROBABILITY: f64 = 0.99;
 
 /// Why a tracker step failed. The tracker's state is unchanged when the filter rejected the
 /// input (a bad measurement or a time going backwards).
@@ -176,7 +181,11 @@ impl LabelledTracker {
         let before_reduction = self.filter.update_and_reduce(sensor, measurements)?;
         self.started = true;
         self.relabel(t, &before_reduction)?;
-        Ok(self.tracks.update(t, self.filter.intensity())?)
+        let motion = self.filter.motion();
+        let in_view = |x: &DVector<f64>| sensor.detection_probability(&motion.position(x)) > 0.0;
+        Ok(self
+            .tracks
+            .update_in_view(t, self.filter.intensity(), &in_view)?)
     }
 
     /// Label continuity (Pham ch. 4): assignment from the previous estimates to the current.
@@ -193,20 +202,37 @@ impl LabelledTracker {
             previous.push(PreviousEstimate {
                 label: estimate.label,
                 predicted: position(&predicted),
+                established: self.tracks.is_confirmed(estimate.label),
+                reach: 0.0,
             });
         }
         // Confirmed tracks that gave no estimate last time (coasting through misses or a
         // pause in the data) compete too: otherwise the birth that explains the object's next
         // detection better than the weakened track would take it over under a new label.
-        // Their state is the label's heaviest component at the last set it was present in.
+        // They are predicted from their anchor (the label's heaviest component in the last
+        // set in which it had weight enough not to be a clutter return's child) and reach as
+        // far as their predicted position's validation gate (`PreviousEstimate::reach`).
+        let dims = motion.position_dims();
+        let gate = chi_square_quantile(COASTING_REACH_PROBABILITY, dims);
         for track in self.tracks.confirmed_tracks() {
             if self.previous.iter().any(|e| e.label == track.label) {
                 continue;
             }
-            let (predicted, _) = motion.predict(&track.mean, &track.cov, dt)?;
+            let (mean, cov, since) = match self.tracks.anchor(track.label) {
+                Some(anchor) => (&anchor.mean, &anchor.cov, anchor.time_s),
+                None => (&track.mean, &track.cov, self.previous_time),
+            };
+            let (predicted, cov) = motion.predict(mean, cov, (t - since).max(0.0))?;
+            let spread = cov
+                .view((0, 0), (dims, dims))
+                .clone_owned()
+                .symmetric_eigenvalues()
+                .max();
             previous.push(PreviousEstimate {
                 label: track.label,
                 predicted: position(&predicted),
+                established: true,
+                reach: (gate * spread.max(0.0)).sqrt(),
             });
         }
         let current: Vec<CurrentEstimate> = estimates

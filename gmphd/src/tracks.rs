@@ -12,15 +12,24 @@
 //!   `confirm_threshold`, and confirms it once that happened in `M` of the last
 //!   `N` sets (cf. MATLAB `trackerPHD` `ConfirmationThreshold`);
 //! * deletes a track only when its weight has stayed below `delete_threshold` for
-//!   `K` consecutive sets or for `max_coast_s` seconds, whichever comes first — or at once
-//!   when no component carries its label any more (nothing is left to coast on)
-//!   (cf. `DeletionThreshold`); a tentative track is also dropped once none of
-//!   the last `N` sets exceeded `confirm_threshold`.
+//!   `K` consecutive sets or for `max_coast_s` seconds, whichever comes first
+//!   (cf. `DeletionThreshold`). A pause in the data — an interval between two sets longer
+//!   than half of `max_coast_s`, as when the server restarts or the network splits — does
+//!   not count toward those seconds: no sensor reported, so nothing spoke against the track.
+//!   A track whose label no component carries any more is dropped at once — nothing can
+//!   give it mass again — except a confirmed one within `max_coast_s` after a pause: a
+//!   pause makes every prediction wide, merging then easily takes a label, and label
+//!   association hands the identity on to the object's next birth (see
+//!   [`crate::labels::associate_labels`]), so such a track coasts (with weight 0) like any
+//!   other. A tentative track is also dropped once none of the last `N` sets exceeded
+//!   `confirm_threshold`.
 //!
 //! A track's state is the mean and covariance of its label's heaviest component
 //! in the latest set that still contains the label (during a missed detection
-//! that is the predicted state, so the track coasts). All state is serde
-//! serialisable so a server can checkpoint it.
+//! that is the predicted state, so the track coasts). For label association the manager
+//! also keeps each track's [`Anchor`]: that state in the latest set in which the label's
+//! weight was at least `delete_threshold` — below it the heaviest component can be any
+//! clutter return's child. All state is serde serialisable so a server can checkpoint it.
 
 use crate::gaussian::{GaussianMixture, Label};
 use nalgebra::{DMatrix, DVector};
@@ -73,7 +82,8 @@ pub struct TrackManagerConfig {
     /// Default 6.
     pub delete_after_sets: usize,
     /// Seconds below `delete_threshold` that delete a track even if fewer than `K`
-    /// sets arrived (slow sensors). Default 2.0 s.
+    /// sets arrived (slow sensors). An interval between two sets longer than half of this
+    /// is a pause in the data and does not count. Default 2.0 s.
     pub max_coast_s: f64,
 }
 
@@ -135,6 +145,18 @@ pub struct Track {
     pub confirmed: bool,
 }
 
+/// A track's state in the latest set in which its label's weight was at least
+/// `delete_threshold`, and that set's time: what a coasting track is predicted from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Anchor {
+    /// Time (s) of the set.
+    pub time_s: f64,
+    /// Mean of the label's heaviest component then.
+    pub mean: DVector<f64>,
+    /// Its covariance.
+    pub cov: DMatrix<f64>,
+}
+
 /// Book-keeping behind one track.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct TrackState {
@@ -144,6 +166,12 @@ struct TrackState {
     /// Consecutive sets below `delete_threshold`, and when that run started.
     below_count: usize,
     below_since: Option<f64>,
+    /// Seconds of pauses in the data since `below_since` (not counted as coasting).
+    #[serde(default)]
+    paused_s: f64,
+    /// See [`Anchor`] (absent in checkpoints written before it existed).
+    #[serde(default)]
+    anchor: Option<Anchor>,
 }
 
 /// What one update changed.
@@ -163,6 +191,9 @@ pub struct TrackManager {
     config: TrackManagerConfig,
     tracks: BTreeMap<Label, TrackState>,
     last_time: Option<f64>,
+    /// Time of the first set after the latest pause in the data.
+    #[serde(default)]
+    resumed_at: Option<f64>,
 }
 
 /// A label's total weight and heaviest component in one intensity.
@@ -181,6 +212,7 @@ impl TrackManager {
             config,
             tracks: BTreeMap::new(),
             last_time: None,
+            resumed_at: None,
         })
     }
 
@@ -204,17 +236,47 @@ impl TrackManager {
         self.tracks().filter(|track| track.confirmed)
     }
 
+    /// True when `label` has a confirmed track.
+    pub fn is_confirmed(&self, label: Label) -> bool {
+        self.tracks
+            .get(&label)
+            .is_some_and(|state| state.track.confirmed)
+    }
+
+    /// The [`Anchor`] of `label`'s track.
+    pub fn anchor(&self, label: Label) -> Option<&Anchor> {
+        self.tracks.get(&label)?.anchor.as_ref()
+    }
+
     /// The label's total weight over its last `N` processed sets, oldest first.
     pub fn recent_weights(&self, label: Label) -> Option<Vec<f64>> {
         let state = self.tracks.get(&label)?;
         Some(state.recent_weights.iter().copied().collect())
     }
 
-    /// Processes the intensity after one measurement set taken at `time_s`.
+    /// Processes the intensity after one measurement set taken at `time_s` by a sensor
+    /// that sees every track; see [`TrackManager::update_in_view`].
     pub fn update(
         &mut self,
         time_s: f64,
         intensity: &GaussianMixture,
+    ) -> Result<TrackEvents, TrackError> {
+        self.update_in_view(time_s, intensity, &|_| true)
+    }
+
+    /// Processes the intensity after one measurement set taken at `time_s` by a sensor
+    /// that can observe a state `x` when `in_view(x)`.
+    ///
+    /// A set only counts for a track whose state the sensor could observe: a set of a
+    /// camera looking elsewhere neither confirms a track (its weight there is mass that no
+    /// measurement contradicted, not evidence — a clutter return's child drifting out of
+    /// every view would otherwise be confirmed on it) nor fills its confirmation window,
+    /// nor counts toward its deletion. Tracks are created only in view.
+    pub fn update_in_view(
+        &mut self,
+        time_s: f64,
+        intensity: &GaussianMixture,
+        in_view: &dyn Fn(&DVector<f64>) -> bool,
     ) -> Result<TrackEvents, TrackError> {
         if !time_s.is_finite() {
             return Err(TrackError::NonFiniteTime(time_s));
@@ -226,12 +288,26 @@ impl TrackManager {
             });
         }
         let summaries = summarise(intensity)?;
+        let pause_s = self
+            .last_time
+            .map(|previous| time_s - previous)
+            .filter(|&interval| interval > 0.5 * self.config.max_coast_s)
+            .unwrap_or(0.0);
         self.last_time = Some(time_s);
+        if pause_s > 0.0 {
+            self.resumed_at = Some(time_s);
+        }
         let config = self.config;
+        let recovering = self
+            .resumed_at
+            .is_some_and(|at| time_s - at < config.max_coast_s);
         let mut events = TrackEvents::default();
 
         for (&label, summary) in &summaries {
-            if summary.weight > config.confirm_threshold && !self.tracks.contains_key(&label) {
+            if summary.weight > config.confirm_threshold
+                && !self.tracks.contains_key(&label)
+                && in_view(summary.mean)
+            {
                 self.tracks.insert(label, new_state(label, time_s, summary));
                 events.created.push(label);
             }
@@ -242,24 +318,40 @@ impl TrackManager {
             if let Some(summary) = summary {
                 state.track.mean.clone_from(summary.mean);
                 state.track.cov.clone_from(summary.cov);
+                if summary.weight >= config.delete_threshold {
+                    state.anchor = Some(Anchor {
+                        time_s,
+                        mean: summary.mean.clone(),
+                        cov: summary.cov.clone(),
+                    });
+                }
             }
             state.track.weight = weight;
+            if weight > config.confirm_threshold {
+                state.track.last_update = time_s;
+            }
+            // A label that no component carries any more has nothing left to be seen or
+            // missed: it counts as seen with weight 0, so that it is deleted in time.
+            let seen = summary.is_none() || in_view(&state.track.mean);
             let is_new = events.created.contains(&label);
-            if !is_new {
+            if seen && !is_new {
                 state.recent_weights.push_back(weight);
                 if state.recent_weights.len() > config.confirm_window {
                     state.recent_weights.pop_front();
                 }
             }
-            if weight > config.confirm_threshold {
-                state.track.last_update = time_s;
-            }
-            if weight < config.delete_threshold {
+            if !seen {
+                // Neither evidence for the track nor against it; the pause rule still applies.
+            } else if weight < config.delete_threshold {
+                if state.below_since.is_some() {
+                    state.paused_s += pause_s;
+                }
                 state.below_count += 1;
                 state.below_since.get_or_insert(time_s);
             } else {
                 state.below_count = 0;
                 state.below_since = None;
+                state.paused_s = 0.0;
             }
             let hits = state
                 .recent_weights
@@ -273,14 +365,13 @@ impl TrackManager {
             let stale_tentative = !state.track.confirmed
                 && state.recent_weights.len() == config.confirm_window
                 && hits == 0;
-            // A label with no component left can never regain mass (label association only
-            // hands on labels that components inherited), so there is nothing to coast on.
-            let vanished = summary.is_none();
+            // See the module documentation.
+            let vanished = summary.is_none() && !(state.track.confirmed && recovering);
             let sustained_low = vanished
                 || state.below_count >= config.delete_after_sets
                 || state
                     .below_since
-                    .is_some_and(|since| time_s - since >= config.max_coast_s);
+                    .is_some_and(|since| time_s - since - state.paused_s >= config.max_coast_s);
             if stale_tentative || sustained_low {
                 events.deleted.push(label);
             }
@@ -307,6 +398,12 @@ fn new_state(label: Label, time_s: f64, summary: &LabelSummary<'_>) -> TrackStat
         recent_weights: VecDeque::from([summary.weight]),
         below_count: 0,
         below_since: None,
+        paused_s: 0.0,
+        anchor: Some(Anchor {
+            time_s,
+            mean: summary.mean.clone(),
+            cov: summary.cov.clone(),
+        }),
     }
 }
 

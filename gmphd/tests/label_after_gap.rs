@@ -12,12 +12,24 @@
 //! where p_D at the mean is 0, so the track neither decayed nor took the detection — fixed by
 //! averaging p_D over the component's spread there (`update/detection.rs`).
 //!
-//! Measured: one label from 2 s to the end in 170 of 200 runs (40 seeds × gaps of 0, 0.5, 0.7,
-//! 1 and 1.5 s; 129 with only (2), 160 with (1) and (2), 165 with (3) too, 170 once a track
-//! whose label has no component left is deleted at once instead of coasting); every run
-//! without a gap. Failures grow with the gap (1 of 40 runs at 0.5 s, 3 at 0.7 s, 11 at 1 s,
-//! 15 at 1.5 s); in the one examined (seed 9, 0.5 s), three consecutive misses just before
-//! the gap had left the track almost no mass.
+//! Four more made a person's identity change after pauses of 0.5 s and more; fixed by (4)
+//! confirmed identities winning over tentative ones where a current estimate descends from
+//! both (`labels::associate_labels`); (5) a pause in the data not counting as coasting time,
+//! so a track weakened by misses just before it is not deleted at the first set after it;
+//! (6) within `max_coast_s` after a pause, a confirmed track whose label merging took coasts
+//! on instead of being deleted at once, and (7) a coasting confirmed track continuing into
+//! a newborn estimate within its predicted position's 99 % gate (the birth at the person's
+//! first detection after the pause), predicted from its last state with enough weight
+//! (`tracks::Anchor`) rather than from a clutter return's child.
+//!
+//! Measured: one label from 2 s to the end in 193 of 200 runs (40 seeds × gaps of 0, 0.5,
+//! 0.7, 1 and 1.5 s): 129 with only (2), 160 with (1) and (2), 165 with (3), 170 once a
+//! track whose label has no component left was deleted at once, 172 with (4), 193 with
+//! (5)–(7); every run without a gap. The 7 left (1 at 0.7 s, 2 at 1 s, 4 at 1.5 s) are
+//! mostly one case: the head's prediction drifts above the view (the sensor's region ends
+//! at 2 m, the head is at 1.7 m, and a velocity estimate of 0.24 m/s over 1.6 s moves it
+//! 0.4 m up) with a covariance of metres, so it neither takes the detection nor decays,
+//! and the birth that does is confirmed beside it.
 
 mod common;
 
@@ -128,7 +140,7 @@ fn a_still_person_keeps_the_label_across_a_data_gap() {
     println!(
         "one track, one label from 2 s to the end in {kept} of {runs} runs; not in {failures:?}"
     );
-    assert!(kept * 100 >= runs * 80, "{kept} of {runs}");
+    assert!(kept * 100 >= runs * 95, "{kept} of {runs}");
     assert!(
         failures.iter().all(|(gap, _)| *gap > 0.0),
         "without a gap: {failures:?}"

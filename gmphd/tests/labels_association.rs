@@ -15,6 +15,8 @@ fn previous(label: u64, x: f64, y: f64) -> PreviousEstimate {
     PreviousEstimate {
         label: Label(label),
         predicted: at(x, y),
+        established: true,
+        reach: 0.0,
     }
 }
 
@@ -100,6 +102,80 @@ fn matching_is_maximum_before_minimum() {
         .origins
         .iter()
         .all(|o| matches!(o, LabelOrigin::Matched { .. })));
+}
+
+/// An object seen again after a pause: its confirmed track (label 1) coasted far from it,
+/// a birth at its first new detection (tentative label 2) sits on it, and the two merged
+/// into one estimate that inherited both labels. The established identity continues, though
+/// the tentative one is nearer; among tentative labels alone the nearer still wins, and
+/// the preference never costs a pair.
+#[test]
+fn established_labels_continue_before_tentative_ones() {
+    let tentative = |label, x| PreviousEstimate {
+        established: false,
+        ..previous(label, x, 0.0)
+    };
+    let both = [(1, 0.9), (2, 1.0)];
+    let merged = vec![current(0.0, 0.0, 1.9, &both)];
+
+    let prev = vec![previous(1, 1.2, 0.0), tentative(2, 0.01)];
+    let result = associate_labels(&prev, &merged, &mut LabelSource::default()).unwrap();
+    assert_eq!(result.labels, vec![Label(1)]);
+
+    let prev = vec![tentative(1, 1.2), tentative(2, 0.01)];
+    let result = associate_labels(&prev, &merged, &mut LabelSource::default()).unwrap();
+    assert_eq!(result.labels, vec![Label(2)]);
+
+    // Two estimates: the established label goes to the one only it can continue, so both
+    // are matched rather than the established label taking the contested estimate.
+    let prev = vec![previous(1, 1.2, 0.0), tentative(2, 0.01)];
+    let cur = vec![
+        current(0.0, 0.0, 1.0, &both),
+        current(3.0, 0.0, 1.0, &[(1, 1.0)]),
+    ];
+    let result = associate_labels(&prev, &cur, &mut LabelSource::default()).unwrap();
+    assert_eq!(result.labels, vec![Label(2), Label(1)]);
+    assert!(result
+        .origins
+        .iter()
+        .all(|o| matches!(o, LabelOrigin::Matched { .. })));
+}
+
+/// A coasting established identity (no estimate last time) continues into an estimate of
+/// newborn descent within its reach — the object's birth after its track lost its mass —
+/// but not beyond the reach, and never into an estimate that continues an established
+/// identity of its own.
+#[test]
+fn a_coasting_identity_reaches_a_newborn_estimate() {
+    let coasting = PreviousEstimate {
+        reach: 1.0,
+        ..previous(1, 0.0, 0.0)
+    };
+    let newborn = |x| current(x, 0.0, 0.9, &[(9, 0.9)]);
+
+    let result = associate_labels(
+        std::slice::from_ref(&coasting),
+        &[newborn(0.5)],
+        &mut LabelSource::default(),
+    )
+    .unwrap();
+    assert_eq!(result.labels, vec![Label(1)]);
+    assert_eq!(result.origins, vec![LabelOrigin::Matched { previous: 0 }]);
+
+    let result = associate_labels(
+        std::slice::from_ref(&coasting),
+        &[newborn(2.0)],
+        &mut LabelSource::default(),
+    )
+    .unwrap();
+    assert_eq!(result.labels, vec![Label(9)]);
+    assert_eq!(result.origins, vec![LabelOrigin::Inherited]);
+
+    // Label 3 is another established identity: its estimate stays its own.
+    let prev = vec![coasting, previous(3, 10.0, 0.0)];
+    let cur = vec![current(0.5, 0.0, 0.9, &[(3, 0.9)])];
+    let result = associate_labels(&prev, &cur, &mut LabelSource::default()).unwrap();
+    assert_eq!(result.labels, vec![Label(3)]);
 }
 
 /// An estimate may only take a label it inherited, even when another previous

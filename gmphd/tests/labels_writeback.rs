@@ -96,6 +96,8 @@ fn a_component_with_two_objects_is_split_between_their_labels() {
     let previous = vec![PreviousEstimate {
         label: Label(4),
         predicted: DVector::from_vec(vec![5.0, 5.0]),
+        established: true,
+        reach: 0.0,
     }];
     let current = estimates
         .iter()

@@ -1,10 +1,12 @@
 //! Track manager: no flicker under alternating sensors with misses, M-of-N
 //! confirmation, deletion after K sets or max_coast_s, checkpointable state.
 
+mod common;
+
+use common::mixture_of;
 use gmphd::extract::{StateExtractor, WeightThresholdExtractor};
 use gmphd::tracks::{TrackError, TrackManager, TrackManagerConfig};
-use gmphd::{Gaussian, GaussianMixture, Label};
-use nalgebra::{DMatrix, DVector};
+use gmphd::{GaussianMixture, Label};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -12,22 +14,6 @@ const P_DETECT: f64 = 0.8;
 const P_SURVIVE: f64 = 0.99;
 /// `p_D g(z|x) / κ` for a detection of the object: a well-separated return.
 const LIKELIHOOD_RATIO: f64 = 50.0;
-
-fn mixture_of(weights: &[(u64, f64)]) -> GaussianMixture {
-    GaussianMixture::from_components(
-        weights
-            .iter()
-            .map(|&(label, w)| {
-                Gaussian::new(
-                    w,
-                    DVector::from_vec(vec![label as f64, 0.0]),
-                    DMatrix::identity(2, 2),
-                    Label(label),
-                )
-            })
-            .collect(),
-    )
-}
 
 /// The weight a GM-PHD update gives one isolated object: `(1 − p_D) w` on a
 /// miss, `r w / (1 + r w)` on a detection (the clutter intensity dominates the rest).

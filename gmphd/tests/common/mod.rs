@@ -4,11 +4,29 @@
 #![allow(dead_code)]
 
 use gmphd::metrics::{ospa, MetricParams};
-use gmphd::{GaussianMixture, LabelledTracker, Measurement, MeasurementModel};
-use nalgebra::{DVector, Vector3};
+use gmphd::{Gaussian, GaussianMixture, Label, LabelledTracker, Measurement, MeasurementModel};
+use nalgebra::{DMatrix, DVector, Vector3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Poisson, StandardNormal};
+
+/// One unit-covariance component per `(label, weight)`, at x = label on the x axis of a
+/// 2-D state, so that labels are also positions.
+pub fn mixture_of(weights: &[(u64, f64)]) -> GaussianMixture {
+    GaussianMixture::from_components(
+        weights
+            .iter()
+            .map(|&(label, w)| {
+                Gaussian::new(
+                    w,
+                    DVector::from_vec(vec![label as f64, 0.0]),
+                    DMatrix::identity(2, 2),
+                    Label(label),
+                )
+            })
+            .collect(),
+    )
+}
 
 /// One measurement set: each object detected with the sensor's p_D at its
 /// position, measured with Gaussian noise, plus Poisson clutter over the region.
