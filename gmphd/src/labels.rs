@@ -231,28 +231,28 @@ pub fn associate_labels(
         .map(|c| !established.iter().any(|&label| c.inherited.contains(label)))
         .collect();
     let distance = |j: usize, i: usize| {
-        let d = (&current[i].mean - &previous[j].predicted).norm();
-        let inherited = current[i].inherited.contains(previous[j].label);
-        let reached = previous[j].established && newborn[i] && d <= previous[j].reach;
-        (inherited || reached).then_some(d)
+        let (from, to) = (&previous[j], &current[i]);
+        let inherited = to.inherited.contains(from.label);
+        if !inherited && !(from.established && from.reach > 0.0 && newborn[i]) {
+            return None;
+        }
+        let d = euclidean(&to.mean, &from.predicted);
+        (inherited || d <= from.reach).then_some(d)
     };
+    let mut entries = Vec::with_capacity(previous.len() * current.len());
+    for j in 0..previous.len() {
+        entries.extend((0..current.len()).map(|i| distance(j, i)));
+    }
     // A pair continuing a tentative label costs more than any total distance, so that
     // fewer tentative (more established) continuations always win; see the doc above.
-    let mut longest = 0.0_f64;
-    for j in 0..previous.len() {
-        for i in 0..current.len() {
-            longest = longest.max(distance(j, i).unwrap_or(0.0));
+    let longest = entries.iter().flatten().fold(0.0_f64, |a, &d| a.max(d));
+    let tentative_cost = 1.0 + longest * previous.len().min(current.len()) as f64;
+    for (j, row) in entries.chunks_mut(current.len().max(1)).enumerate() {
+        if !previous[j].established {
+            row.iter_mut().flatten().for_each(|d| *d += tentative_cost);
         }
     }
-    let tentative_cost = 1.0 + longest * previous.len().min(current.len()) as f64;
-    let costs = CostMatrix::from_fn(previous.len(), current.len(), |j, i| {
-        let extra = if previous[j].established {
-            0.0
-        } else {
-            tentative_cost
-        };
-        distance(j, i).map(|d| d + extra)
-    })?;
+    let costs = CostMatrix::from_row_major(previous.len(), current.len(), entries)?;
     let mut labels: Vec<Option<Label>> = vec![None; current.len()];
     let mut origins = vec![LabelOrigin::Fresh; current.len()];
     let mut taken = BTreeSet::new();
@@ -292,6 +292,15 @@ pub fn associate_labels(
         labels: labels.into_iter().flatten().collect(),
         origins,
     })
+}
+
+/// |a − b| without allocating (the vectors have one dimension, checked by the caller).
+fn euclidean(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    a.iter()
+        .zip(b.iter())
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// A fresh label that is not already in use (a restored source could lag behind).

@@ -319,11 +319,7 @@ impl TrackManager {
                 state.track.mean.clone_from(summary.mean);
                 state.track.cov.clone_from(summary.cov);
                 if summary.weight >= config.delete_threshold {
-                    state.anchor = Some(Anchor {
-                        time_s,
-                        mean: summary.mean.clone(),
-                        cov: summary.cov.clone(),
-                    });
+                    set_anchor(&mut state.anchor, time_s, summary);
                 }
             }
             state.track.weight = weight;
@@ -380,6 +376,27 @@ impl TrackManager {
             self.tracks.remove(label);
         }
         Ok(events)
+    }
+}
+
+/// Sets `anchor` to the summary's state at `time_s`, reusing its storage (this runs for
+/// every track at every set).
+fn set_anchor(anchor: &mut Option<Anchor>, time_s: f64, summary: &LabelSummary<'_>) {
+    match anchor {
+        Some(a)
+            if a.mean.shape() == summary.mean.shape() && a.cov.shape() == summary.cov.shape() =>
+        {
+            a.time_s = time_s;
+            a.mean.copy_from(summary.mean);
+            a.cov.copy_from(summary.cov);
+        }
+        _ => {
+            *anchor = Some(Anchor {
+                time_s,
+                mean: summary.mean.clone(),
+                cov: summary.cov.clone(),
+            })
+        }
     }
 }
 
