@@ -233,7 +233,8 @@ pub fn associate_labels(
     let distance = |j: usize, i: usize| {
         let (from, to) = (&previous[j], &current[i]);
         let inherited = to.inherited.contains(from.label);
-        if !inherited && !(from.established && from.reach > 0.0 && newborn[i]) {
+        let may_reach = from.established && from.reach > 0.0 && newborn[i];
+        if !(inherited || may_reach) {
             return None;
         }
         let d = euclidean(&to.mean, &from.predicted);
