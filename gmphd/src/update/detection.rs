@@ -7,14 +7,19 @@
 //! whose prediction drifted just past the edge of the view (a head near the top of the
 //! volume after a pause in the data, a clutter return's child with a wrong velocity) then
 //! keeps its weight for ever while the object itself, seen inside the view, is taken over
-//! by a birth. So when p_D is zero at the mean, it is averaged over the component's spread:
-//! the mean and the 2n points mean ± √n · (columns of the Cholesky factor of P), equally
-//! weighted — an unscented estimate of E[p_D(x)] that is positive when the component
-//! reaches into the view. Components seen at their mean are unchanged.
+//! by a birth. So when p_D is zero at the mean, it is averaged over the component's spread.
+//! p_D depends on the position alone, so the average is over the position's marginal (the
+//! leading d × d block of P, d = 2 or 3): the mean and the 2d points mean ± √d · (columns
+//! of that block's Cholesky factor), equally weighted — an unscented estimate of E[p_D(x)]
+//! that is positive when the component reaches into the view. Components seen at their
+//! mean are unchanged.
 
 use super::UpdateStep;
 use crate::gaussian::Gaussian;
-use crate::linalg::lower_factor;
+use crate::linalg::lower_cholesky;
+
+/// Largest number of position coordinates (motion models have 2 or 3).
+const MAX_POSITION_DIMS: usize = 3;
 
 /// p_D for `component` (see the module documentation), in [0, 1].
 pub(super) fn detection_probability(component: &Gaussian, step: &UpdateStep<'_>) -> f64 {
@@ -26,22 +31,26 @@ pub(super) fn detection_probability(component: &Gaussian, step: &UpdateStep<'_>)
     if at_mean > 0.0 {
         return at_mean;
     }
-    let Some(root) = lower_factor(&component.cov) else {
+    let d = step.motion.position_dims().min(component.dim());
+    let mut root = [0.0; MAX_POSITION_DIMS * MAX_POSITION_DIMS];
+    if d == 0 || d > MAX_POSITION_DIMS {
         return 0.0;
-    };
-    let n = component.dim();
-    let scale = (n as f64).sqrt();
+    }
+    if !lower_cholesky(d, |r, c| component.cov[(r, c)], &mut root[..d * d]) {
+        return 0.0;
+    }
+    let scale = (d as f64).sqrt();
     let mut point = component.mean.clone();
     let mut sum = 0.0;
-    for column in root.column_iter() {
+    for column in 0..d {
         for sign in [scale, -scale] {
-            for ((x, mean), l) in point.iter_mut().zip(&component.mean).zip(column.iter()) {
-                *x = mean + sign * l;
+            for row in 0..d {
+                point[row] = component.mean[row] + sign * root[row + column * d];
             }
             sum += at(&point);
         }
     }
-    sum / (2 * n + 1) as f64
+    sum / (2 * d + 1) as f64
 }
 
 #[cfg(test)]
@@ -76,9 +85,10 @@ mod tests {
         };
         // Inside: p_D itself.
         assert_eq!(detection_probability(&component(1.7, 0.5), &step), 0.9);
-        // Just above the view with a wide spread: one of 13 points (mean − √6·σ in z) inside.
+        // Just above the view with a wide spread: one of the 7 points of the position's
+        // marginal (mean − √3·σ in z) inside; the velocity's spread does not matter.
         let reaching = detection_probability(&component(2.05, 0.5), &step);
-        assert!((reaching - 0.9 / 13.0).abs() < 1e-12, "{reaching}");
+        assert!((reaching - 0.9 / 7.0).abs() < 1e-12, "{reaching}");
         // Tight and outside, or far outside: not detectable.
         assert_eq!(detection_probability(&component(2.05, 0.01), &step), 0.0);
         assert_eq!(detection_probability(&component(9.0, 0.5), &step), 0.0);
