@@ -11,7 +11,7 @@ use crate::linalg::{check_finite_vector, check_spd};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
 use crate::predict::{predict_intensity, PredictionStep, Survival, SurvivalRegion};
-use crate::reduce::Reducer;
+use crate::reduce::{Ancestry, Reducer};
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
 use crate::update::{update_parts, UpdateStep};
@@ -270,23 +270,25 @@ impl GmPhdFilter {
         self.update_with_floor(sensor, measurements, self.gating.min_weight)
     }
 
-    /// [`GmPhdFilter::update`] followed at once by [`GmPhdFilter::reduce`]; returns the
-    /// posterior as it was before the reduction.
+    /// [`GmPhdFilter::update`] followed at once by [`GmPhdFilter::reduce`]; returns what
+    /// each reduced component descends from ([`Reducer::reduce_recording`]).
     ///
     /// Since nothing sees the posterior in between, the update does not emit the pairs
     /// the reduction would prune at once: the gating weight floor is raised to the
     /// reducer's [`Reducer::prune_threshold`]. The reduced intensity is the same as with
-    /// `update` then `reduce`; the returned posterior lacks only those pairs.
+    /// `update` then `reduce`; an [`Ancestry::PreReduction`] posterior lacks only those
+    /// pairs.
     pub fn update_and_reduce(
         &mut self,
         sensor: &dyn MeasurementModel,
         measurements: &[Measurement],
-    ) -> Result<GaussianMixture, FilterError> {
+    ) -> Result<Ancestry, FilterError> {
         let floor = self.gating.min_weight.max(self.reducer.prune_threshold());
         self.update_with_floor(sensor, measurements, floor)?;
         let posterior = std::mem::take(&mut self.intensity);
-        self.intensity = self.reducer.reduce(&posterior);
-        Ok(posterior)
+        let reduction = self.reducer.reduce_recording(posterior);
+        self.intensity = reduction.mixture;
+        Ok(reduction.ancestry)
     }
 
     fn update_with_floor(

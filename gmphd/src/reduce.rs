@@ -7,13 +7,43 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture};
+use crate::labels::LabelSet;
 use crate::linalg::{lower_factor, robust_cholesky, symmetrize, MahalanobisGate};
 use crate::sweep;
+
+/// Where the labels that merging replaced can be found (Pham's inherited label sets).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Ancestry {
+    /// Per component of the reduced mixture, the labels of the components merged into it,
+    /// each with their summed weight.
+    Recorded(Vec<LabelSet>),
+    /// The mixture before reduction, for [`crate::labels::inherited_label_sets`] to
+    /// derive them from (a reducer that does not record its merges).
+    PreReduction(GaussianMixture),
+}
+
+/// A reduced mixture and its [`Ancestry`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reduction {
+    /// The reduced mixture.
+    pub mixture: GaussianMixture,
+    /// What each of its components descends from.
+    pub ancestry: Ancestry,
+}
 
 /// Keeps the number of Gaussian components bounded between updates.
 pub trait Reducer: Send + Sync + Debug {
     /// The reduced mixture.
     fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture;
+
+    /// Reduces `mixture`, which the caller no longer needs, and says what each output
+    /// component descends from. The default keeps the input as [`Ancestry::PreReduction`].
+    fn reduce_recording(&self, mixture: GaussianMixture) -> Reduction {
+        Reduction {
+            mixture: self.reduce(&mixture),
+            ancestry: Ancestry::PreReduction(mixture),
+        }
+    }
 
     /// Components of at most this weight never survive [`Reducer::reduce`] (0 unless the
     /// reducer prunes), so an update reduced at once need not emit them.
@@ -75,34 +105,42 @@ fn heaviest_first(a: (usize, &Gaussian), b: (usize, &Gaussian)) -> Ordering {
         .then(a.0.cmp(&b.0))
 }
 
-/// Moment-matched merge of `members` (indices into `kept`), labelled by `kept[members[0]]`.
-fn merge(kept: &[&Gaussian], members: &[usize]) -> Gaussian {
-    if let [only] = members {
-        // Nothing to match: the component itself (the moments below would only add rounding).
-        return kept[*only].clone();
-    }
-    let weight: f64 = members.iter().map(|&i| kept[i].weight).sum();
-    let dim = kept[members[0]].dim();
+/// Moment-matched merge of `members` (at least two), labelled by the first (the heaviest).
+fn merge<'a>(members: impl Iterator<Item = &'a Gaussian> + Clone) -> Gaussian {
+    let first = members.clone().next().expect("a cluster has a member");
+    let weight: f64 = members.clone().map(|g| g.weight).sum();
+    let dim = first.dim();
     let mut mean = DVector::zeros(dim);
-    for &i in members {
-        mean.axpy(kept[i].weight, &kept[i].mean, 1.0);
+    for g in members.clone() {
+        mean.axpy(g.weight, &g.mean, 1.0);
     }
     mean /= weight;
     let mut cov = DMatrix::zeros(dim, dim);
     let mut d = DVector::zeros(dim);
-    for &i in members {
-        d.copy_from(&kept[i].mean);
+    for g in members {
+        d.copy_from(&g.mean);
         d -= &mean;
-        let w = kept[i].weight;
-        cov.zip_apply(&kept[i].cov, |c, p| *c += w * p);
-        cov.ger(kept[i].weight, &d, &d, 1.0);
+        let w = g.weight;
+        cov.zip_apply(&g.cov, |c, p| *c += w * p);
+        cov.ger(w, &d, &d, 1.0);
     }
     cov /= weight;
-    Gaussian::new(weight, mean, symmetrize(&cov), kept[members[0]].label)
+    Gaussian::new(weight, mean, symmetrize(&cov), first.label)
 }
 
-impl Reducer for PruneMergeCap {
-    fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture {
+/// Orders reduced components (with their pivot order and a payload) heaviest first and
+/// keeps at most `max_components`.
+fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(Gaussian, T)> {
+    let mut indexed: Vec<(usize, (Gaussian, T))> = merged.into_iter().enumerate().collect();
+    indexed.sort_by(|a, b| heaviest_first((a.0, &a.1 .0), (b.0, &b.1 .0)));
+    indexed.truncate(max_components);
+    indexed.into_iter().map(|(_, g)| g).collect()
+}
+
+impl PruneMergeCap {
+    /// Vo & Ma's clusters: indices into `mixture`, one cluster per reduced component in
+    /// pivot (weight) order, each heaviest member first. Pruned components are in none.
+    fn clusters(&self, mixture: &GaussianMixture) -> Vec<Vec<usize>> {
         let mut order: Vec<(usize, &Gaussian)> = mixture
             .iter()
             .enumerate()
@@ -144,7 +182,7 @@ impl Reducer for PruneMergeCap {
         let mut members = Vec::new();
         let mut candidates = Vec::new();
         let mut scratch = Vec::new();
-        let mut merged: Vec<Gaussian> = Vec::new();
+        let mut clusters = Vec::new();
         for pivot in 0..kept.len() {
             if !unmerged[pivot] {
                 continue;
@@ -190,12 +228,63 @@ impl Reducer for PruneMergeCap {
             for &i in &members {
                 unmerged[i] = false;
             }
-            merged.push(merge(&kept, &members));
+            clusters.push(members.iter().map(|&i| order[i].0).collect());
         }
-        let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
-        indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
-        indexed.truncate(self.max_components);
-        GaussianMixture::from_components(indexed.into_iter().map(|(_, g)| g).collect())
+        clusters
+    }
+}
+
+impl Reducer for PruneMergeCap {
+    fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture {
+        let merged = self
+            .clusters(mixture)
+            .into_iter()
+            .map(|cluster| {
+                let reduced = match cluster.as_slice() {
+                    // Nothing to match: the component itself (moments would only add rounding).
+                    [only] => mixture.components[*only].clone(),
+                    _ => merge(cluster.iter().map(|&i| &mixture.components[i])),
+                };
+                (reduced, ())
+            })
+            .collect();
+        let kept = heaviest_kept(merged, self.max_components);
+        GaussianMixture::from_components(kept.into_iter().map(|(g, _)| g).collect())
+    }
+
+    /// As [`Reducer::reduce`], recording each cluster's labels; unmerged components are
+    /// moved rather than copied.
+    fn reduce_recording(&self, mixture: GaussianMixture) -> Reduction {
+        let clusters = self.clusters(&mixture);
+        let merged: Vec<(Option<Gaussian>, LabelSet)> = clusters
+            .iter()
+            .map(|cluster| {
+                let members = cluster.iter().map(|&i| &mixture.components[i]);
+                let labels = members.clone().map(|g| (g.label, g.weight)).collect();
+                let reduced = (cluster.len() > 1).then(|| merge(members));
+                (reduced, labels)
+            })
+            .collect();
+        let mut slots: Vec<Option<Gaussian>> = mixture.components.into_iter().map(Some).collect();
+        let merged = merged
+            .into_iter()
+            .zip(&clusters)
+            .map(|((reduced, labels), cluster)| {
+                let component = reduced.unwrap_or_else(|| {
+                    slots[cluster[0]]
+                        .take()
+                        .expect("a component is in one cluster")
+                });
+                (component, labels)
+            })
+            .collect();
+        let (components, ancestry) = heaviest_kept(merged, self.max_components)
+            .into_iter()
+            .unzip();
+        Reduction {
+            mixture: GaussianMixture::from_components(components),
+            ancestry: Ancestry::Recorded(ancestry),
+        }
     }
 
     fn prune_threshold(&self) -> f64 {
@@ -240,6 +329,31 @@ mod tests {
         assert_eq!(reduced.components[1].label, Label(2));
     }
 
+    #[test]
+    fn recording_reduces_alike_and_names_each_clusters_labels() {
+        let reducer = PruneMergeCap::new(1e-3, 4.0, 2).unwrap();
+        let mixture = GaussianMixture::from_components(vec![
+            component(0.3, 0.0, 5),
+            component(0.6, 1.0, 7),
+            component(1e-4, 0.5, 1),
+            component(0.2, 10.0, 2),
+            component(0.1, 20.0, 3),
+        ]);
+        let reduction = reducer.reduce_recording(mixture.clone());
+        assert_eq!(reduction.mixture, reducer.reduce(&mixture));
+        let Ancestry::Recorded(sets) = reduction.ancestry else {
+            panic!("PruneMergeCap records its merges");
+        };
+        let labels: Vec<Vec<(Label, f64)>> = sets.iter().map(LabelSet::heaviest_first).collect();
+        assert_eq!(
+            labels,
+            vec![
+                vec![(Label(7), 0.6), (Label(5), 0.3)],
+                vec![(Label(2), 0.2)]
+            ]
+        );
+    }
+
     /// Vo & Ma's Table II as written: every pivot tests every remaining component.
     fn reduce_by_full_scan(reducer: &PruneMergeCap, mixture: &GaussianMixture) -> GaussianMixture {
         let mut order: Vec<(usize, &Gaussian)> = mixture
@@ -263,7 +377,10 @@ mod tests {
                 })
                 .collect();
             unmerged.retain(|i| !members.contains(i));
-            merged.push(merge(&kept, &members));
+            merged.push(match members.as_slice() {
+                [only] => kept[*only].clone(),
+                _ => merge(members.iter().map(|&i| kept[i])),
+            });
         }
         let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
         indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
@@ -296,10 +413,9 @@ mod tests {
         let mixture = GaussianMixture::from_components(components);
         for (prune, merge, cap) in [(1e-3, 4.0, 1000), (0.2, 1.0, 40), (0.0, 16.0, 7)] {
             let reducer = PruneMergeCap::new(prune, merge, cap).unwrap();
-            assert_eq!(
-                reducer.reduce(&mixture),
-                reduce_by_full_scan(&reducer, &mixture)
-            );
+            let full_scan = reduce_by_full_scan(&reducer, &mixture);
+            assert_eq!(reducer.reduce(&mixture), full_scan);
+            assert_eq!(reducer.reduce_recording(mixture.clone()).mixture, full_scan);
         }
     }
 

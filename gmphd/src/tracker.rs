@@ -20,12 +20,13 @@ use crate::error::FilterError;
 use crate::extract::{ExtractError, StateExtractor, WeightThresholdExtractor};
 use crate::filter::{FilterState, GmPhdFilter};
 use crate::gating::chi_square_quantile;
-use crate::gaussian::{GaussianMixture, Label, LabelSource};
+use crate::gaussian::{Label, LabelSource};
 use crate::labels::{
     apply_relabelling, associate_labels, inherited_label_sets, CurrentEstimate, LabelError,
     PreviousEstimate,
 };
 use crate::measurement::{Measurement, MeasurementModel};
+use crate::reduce::Ancestry;
 use crate::tracks::{Track, TrackError, TrackEvents, TrackManager, TrackManagerConfig};
 
 /// Probability mass of a coasting track's predicted position within its reach: a birth
@@ -178,9 +179,9 @@ impl LabelledTracker {
             self.filter.restore(state)?;
         }
         self.filter.predict_to(t)?;
-        let before_reduction = self.filter.update_and_reduce(sensor, measurements)?;
+        let ancestry = self.filter.update_and_reduce(sensor, measurements)?;
         self.started = true;
-        self.relabel(t, &before_reduction)?;
+        self.relabel(t, &ancestry)?;
         let motion = self.filter.motion();
         let in_view = |x: &DVector<f64>| sensor.detection_probability(&motion.position(x)) > 0.0;
         Ok(self
@@ -189,10 +190,22 @@ impl LabelledTracker {
     }
 
     /// Label continuity (Pham ch. 4): assignment from the previous estimates to the current.
-    fn relabel(&mut self, t: f64, before_reduction: &GaussianMixture) -> Result<(), TrackerError> {
+    fn relabel(&mut self, t: f64, ancestry: &Ancestry) -> Result<(), TrackerError> {
         let estimates = self.extractor.extract(self.filter.intensity())?;
-        let inherited =
-            inherited_label_sets(before_reduction, &estimates, self.config.merge_threshold)?;
+        let inherited = match ancestry {
+            // Pham's l̃ᴱ: the labels merged into the estimate's component, and its own.
+            Ancestry::Recorded(sets) => estimates
+                .iter()
+                .map(|estimate| {
+                    let mut set = sets.get(estimate.source).cloned().unwrap_or_default();
+                    set.insert(estimate.label, 0.0);
+                    set
+                })
+                .collect(),
+            Ancestry::PreReduction(before_reduction) => {
+                inherited_label_sets(before_reduction, &estimates, self.config.merge_threshold)?
+            }
+        };
         let motion = self.filter.motion();
         let dt = (t - self.previous_time).max(0.0);
         let position = |x: &DVector<f64>| DVector::from_column_slice(motion.position(x).as_slice());

@@ -1,6 +1,7 @@
 //! Gating of component–measurement pairs, parallel determinism of the update, and
 //! `update_and_reduce` against `update` then `reduce`.
 
+use gmphd::reduce::Ancestry;
 use gmphd::update::{update_gated, UpdateStep};
 use gmphd::{
     BearingRange, BirthTiming, ConstantVelocity, Detection, FilterConfig, FilterError, Gating,
@@ -209,9 +210,21 @@ fn update_and_reduce_equals_update_then_reduce() {
         together.predict_to(k as f64 * 0.1).unwrap();
         separate.update(&sensor, &set).unwrap();
         separate.reduce();
-        let before = together.update_and_reduce(&sensor, &set).unwrap();
-        assert!(before.iter().all(|c| c.weight > 0.0));
+        let ancestry = together.update_and_reduce(&sensor, &set).unwrap();
         assert_eq!(separate.intensity(), together.intensity(), "step {k}");
+        // Each reduced component descends from components of positive weight, its own
+        // label among them.
+        let Ancestry::Recorded(sets) = ancestry else {
+            panic!("PruneMergeCap records its merges");
+        };
+        assert_eq!(sets.len(), together.intensity().len());
+        for (set, component) in sets.iter().zip(together.intensity().iter()) {
+            let members = set.heaviest_first();
+            assert!(members.iter().all(|&(_, w)| w > 0.0));
+            assert!(set.contains(component.label));
+            let total: f64 = members.iter().map(|&(_, w)| w).sum();
+            assert!((total - component.weight).abs() <= 1e-9 * total.max(1.0));
+        }
     }
 }
 
