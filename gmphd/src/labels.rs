@@ -15,8 +15,10 @@
 //! result are therefore unique.
 //!
 //! Everything here is a pure function over plain data. [`apply_relabelling`] turns
-//! the result into labels on the mixture's components, and [`inherited_label_sets`]
-//! derives the inherited label sets from the mixture before reduction.
+//! the result into labels on the mixture's components. The inherited label sets come
+//! from the reducer, which records each cluster it merges
+//! ([`crate::reduce::Ancestry::Recorded`]); for a reducer that does not,
+//! [`inherited_label_sets`] derives them from the mixture before reduction.
 
 mod writeback;
 

@@ -18,8 +18,9 @@ use std::collections::{BTreeMap, BTreeSet};
 /// its label. The estimate's own label is always in its set (with weight 0 unless
 /// a contributing component carries it). Using the estimate's
 /// mean in place of the (unknown) heaviest member's mean makes this approximate at
-/// the cluster's edge; a reducer that records merges can build exact sets with
-/// [`LabelSet::from_iter`] instead.
+/// the cluster's edge; [`crate::reduce::PruneMergeCap`] records its clusters
+/// ([`crate::reduce::Reducer::reduce_recording`]), and the tracker uses those exact sets;
+/// this is the fallback for reducers that do not.
 ///
 /// A covariance that is not positive definite is an error when it has a non-positive
 /// variance, or when its component is close enough to an estimate to be tested.
