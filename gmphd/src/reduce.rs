@@ -308,16 +308,22 @@ mod tests {
         )
     }
 
-    #[test]
-    fn prunes_merges_and_caps_deterministically() {
-        let reducer = PruneMergeCap::new(1e-3, 4.0, 2).unwrap();
-        let mixture = GaussianMixture::from_components(vec![
+    /// Labels 5 and 7 merge (1 apart, U = 4), 1 is pruned (T = 1e-3), 2 stays alone and 3
+    /// goes with a cap of 2.
+    fn two_clusters_a_pruned_and_a_capped() -> GaussianMixture {
+        GaussianMixture::from_components(vec![
             component(0.3, 0.0, 5),
             component(0.6, 1.0, 7),
             component(1e-4, 0.5, 1),
             component(0.2, 10.0, 2),
             component(0.1, 20.0, 3),
-        ]);
+        ])
+    }
+
+    #[test]
+    fn prunes_merges_and_caps_deterministically() {
+        let reducer = PruneMergeCap::new(1e-3, 4.0, 2).unwrap();
+        let mixture = two_clusters_a_pruned_and_a_capped();
         let reduced = reducer.reduce(&mixture);
         assert_eq!(reduced.len(), 2);
         let first = &reduced.components[0];
@@ -332,13 +338,7 @@ mod tests {
     #[test]
     fn recording_reduces_alike_and_names_each_clusters_labels() {
         let reducer = PruneMergeCap::new(1e-3, 4.0, 2).unwrap();
-        let mixture = GaussianMixture::from_components(vec![
-            component(0.3, 0.0, 5),
-            component(0.6, 1.0, 7),
-            component(1e-4, 0.5, 1),
-            component(0.2, 10.0, 2),
-            component(0.1, 20.0, 3),
-        ]);
+        let mixture = two_clusters_a_pruned_and_a_capped();
         let reduction = reducer.reduce_recording(mixture.clone());
         assert_eq!(reduction.mixture, reducer.reduce(&mixture));
         let Ancestry::Recorded(sets) = reduction.ancestry else {

@@ -3,6 +3,7 @@
 
 use gmphd::labels::{
     associate_labels, CurrentEstimate, LabelError, LabelOrigin, LabelSet, PreviousEstimate,
+    Relabelling,
 };
 use gmphd::{Label, LabelSource};
 use nalgebra::DVector;
@@ -26,6 +27,14 @@ fn current(x: f64, y: f64, weight: f64, inherited: &[(u64, f64)]) -> CurrentEsti
         weight,
         inherited: inherited.iter().map(|&(l, w)| (Label(l), w)).collect(),
     }
+}
+
+/// True when every current estimate took a previous estimate's label.
+fn all_matched(result: &Relabelling) -> bool {
+    result
+        .origins
+        .iter()
+        .all(|o| matches!(o, LabelOrigin::Matched { .. }))
 }
 
 /// Greedy nearest-neighbour: repeatedly take the globally closest free pair.
@@ -98,10 +107,7 @@ fn matching_is_maximum_before_minimum() {
     ];
     let result = associate_labels(&prev, &cur, &mut LabelSource::default()).unwrap();
     assert_eq!(result.labels, vec![Label(1), Label(2), Label(3)]);
-    assert!(result
-        .origins
-        .iter()
-        .all(|o| matches!(o, LabelOrigin::Matched { .. })));
+    assert!(all_matched(&result));
 }
 
 /// An object seen again after a pause: its confirmed track (label 1) coasted far from it,
@@ -135,10 +141,7 @@ fn established_labels_continue_before_tentative_ones() {
     ];
     let result = associate_labels(&prev, &cur, &mut LabelSource::default()).unwrap();
     assert_eq!(result.labels, vec![Label(2), Label(1)]);
-    assert!(result
-        .origins
-        .iter()
-        .all(|o| matches!(o, LabelOrigin::Matched { .. })));
+    assert!(all_matched(&result));
 }
 
 /// A coasting established identity (no estimate last time) continues into an estimate of
