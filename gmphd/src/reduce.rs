@@ -256,25 +256,22 @@ impl Reducer for PruneMergeCap {
     /// moved rather than copied.
     fn reduce_recording(&self, mixture: GaussianMixture) -> Reduction {
         let clusters = self.clusters(&mixture);
-        let merged: Vec<(Option<Gaussian>, LabelSet)> = clusters
+        // Each component is in at most one cluster, so a singleton can be moved out while the
+        // other clusters' members are still in place.
+        let mut slots: Vec<Option<Gaussian>> = mixture.components.into_iter().map(Some).collect();
+        let merged = clusters
             .iter()
             .map(|cluster| {
-                let members = cluster.iter().map(|&i| &mixture.components[i]);
-                let labels = members.clone().map(|g| (g.label, g.weight)).collect();
-                let reduced = (cluster.len() > 1).then(|| merge(members));
-                (reduced, labels)
-            })
-            .collect();
-        let mut slots: Vec<Option<Gaussian>> = mixture.components.into_iter().map(Some).collect();
-        let merged = merged
-            .into_iter()
-            .zip(&clusters)
-            .map(|((reduced, labels), cluster)| {
-                let component = reduced.unwrap_or_else(|| {
-                    slots[cluster[0]]
-                        .take()
-                        .expect("a component is in one cluster")
-                });
+                let member = |i: &usize| slots[*i].as_ref().expect("in one cluster only");
+                let labels: LabelSet = cluster
+                    .iter()
+                    .map(member)
+                    .map(|g| (g.label, g.weight))
+                    .collect();
+                let component = match cluster.as_slice() {
+                    [only] => slots[*only].take().expect("in one cluster only"),
+                    _ => merge(cluster.iter().map(member)),
+                };
                 (component, labels)
             })
             .collect();

@@ -336,15 +336,14 @@ impl TrackManager {
                     state.recent_weights.pop_front();
                 }
             }
-            if !seen {
-                // Neither evidence for the track nor against it; the pause rule still applies.
-            } else if weight < config.delete_threshold {
+            // An unseen set is neither evidence for the track nor against it.
+            if seen && weight < config.delete_threshold {
                 if state.below_since.is_some() {
                     state.paused_s += pause_s;
                 }
                 state.below_count += 1;
                 state.below_since.get_or_insert(time_s);
-            } else {
+            } else if seen {
                 state.below_count = 0;
                 state.below_since = None;
                 state.paused_s = 0.0;
