@@ -135,6 +135,7 @@ fn tracker() -> LabelledTracker {
             confirm_threshold: 0.5,
             confirm_window: 5,
             confirm_hits: 3,
+            confirm_at_once_threshold: None,
             delete_threshold: 0.15,
             delete_after_sets: 12,
             max_coast_s: 1.0,

@@ -1,6 +1,7 @@
 //! The GM-PHD filter: intensity, clock and labels, driven by predict / update / reduce.
 
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 
 use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
 use crate::birth::BirthModel;
@@ -10,6 +11,7 @@ use crate::gaussian::{GaussianMixture, LabelSource};
 use crate::linalg::{check_finite_vector, check_spd};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
+use crate::newborn::separate_newborn_children;
 use crate::predict::{predict_intensity, PredictionStep, Survival, SurvivalRegion};
 use crate::reduce::{Ancestry, Reducer};
 use crate::spawn::SpawnModel;
@@ -47,6 +49,10 @@ pub struct FilterState {
     /// absent in checkpoints of older versions).
     #[serde(default)]
     pub birth_owed_s: f64,
+    /// Labels handed out by the latest prediction, whose children a further update at the
+    /// same time stamp separates ([`crate::newborn`]; absent in older checkpoints).
+    #[serde(default)]
+    pub newborn_labels: Range<u64>,
 }
 
 /// A GM-PHD filter over one state space, fed by any number of sensors.
@@ -78,6 +84,10 @@ pub struct GmPhdFilter {
     birth_owed_s: f64,
     /// U(z) of each measurement of the last update.
     last_association: Vec<f64>,
+    /// Labels handed out by the latest prediction (births, spawns): their components'
+    /// children under different measurements get labels of their own
+    /// ([`crate::newborn`]).
+    newborn: Range<u64>,
 }
 
 impl GmPhdFilter {
@@ -115,6 +125,7 @@ impl GmPhdFilter {
             birth_interval_s: 0.0,
             birth_owed_s: 0.0,
             last_association: Vec::new(),
+            newborn: 0..0,
         })
     }
 
@@ -231,6 +242,7 @@ impl GmPhdFilter {
             return Ok(());
         }
         let dt = t - self.time;
+        let first_newborn = self.labels.peek();
         let owed = self.birth_owed_s + dt;
         // Relative tolerance: 25 steps of 4 ms add up to just under 0.1 s.
         let (mut births, still_owed) = if owed >= self.birth_interval_s * (1.0 - 1e-9) {
@@ -249,6 +261,7 @@ impl GmPhdFilter {
             region: self.survival_region.as_ref(),
         };
         self.intensity = predict_intensity(&self.intensity, &step, births, &mut self.labels)?;
+        self.newborn = first_newborn..self.labels.peek();
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.clear();
         }
@@ -318,6 +331,7 @@ impl GmPhdFilter {
             );
         }
         self.intensity = outcome.posterior;
+        separate_newborn_children(&mut self.intensity, &self.newborn, &mut self.labels);
         self.last_association = outcome.association;
         Ok(())
     }
@@ -376,6 +390,7 @@ impl GmPhdFilter {
                 .map(|adaptive| adaptive.pending().to_vec())
                 .unwrap_or_default(),
             birth_owed_s: self.birth_owed_s,
+            newborn_labels: self.newborn.clone(),
         }
     }
 
@@ -397,6 +412,7 @@ impl GmPhdFilter {
         self.skip_used_labels(&state.intensity);
         self.intensity = state.intensity;
         self.time = state.time;
+        self.newborn = state.newborn_labels;
         self.birth_owed_s = if state.birth_owed_s.is_finite() {
             state.birth_owed_s.max(0.0)
         } else {

@@ -20,8 +20,10 @@
 //! ([`crate::reduce::Ancestry::Recorded`]); for a reducer that does not,
 //! [`inherited_label_sets`] derives them from the mixture before reduction.
 
+mod lost;
 mod writeback;
 
+pub use lost::report_lost_identities;
 pub use writeback::{apply_relabelling, inherited_label_sets};
 
 use crate::assignment::{min_cost_matching, AssignmentError, CostMatrix};

@@ -20,6 +20,7 @@ pub mod linalg;
 pub mod measurement;
 pub mod metrics;
 pub mod motion;
+mod newborn;
 pub mod predict;
 pub mod reduce;
 pub mod spawn;

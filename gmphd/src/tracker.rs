@@ -3,17 +3,23 @@
 //!
 //! One step, for a set of one sensor taken at time `t`:
 //! 1. predict the intensity to `t` and update it with the sensor's model (sequential
-//!    multi-sensor correction: each set's posterior is the next set's prior);
+//!    multi-sensor correction: each set's posterior is the next set's prior); a newborn
+//!    component's children under different measurements get labels of their own, since
+//!    they may be different objects born together;
 //! 2. reduce it (prune, merge, cap), remembering the mixture before reduction so that each
 //!    estimate's *inherited* labels can be recovered;
-//! 3. extract estimates and keep identities continuous by a minimum-total-distance
+//! 3. extract estimates, plus any cluster that descends from an identity no estimate
+//!    carries any more ([`report_lost_identities`]: objects that crossed or were born
+//!    together), and keep identities continuous by a minimum-total-distance
 //!    assignment from the previous step's estimates, predicted to `t`, restricted to the
 //!    inherited labels; write the chosen labels back onto the components;
 //! 4. feed the labelled intensity to the track manager, which confirms and deletes tracks on
 //!    each label's weight over recent sets, so a single sensor's miss does not drop a track.
+//!    A label that split off a confirmed track's is never confirmed on one set alone.
 
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
 use thiserror::Error;
 
 use crate::error::FilterError;
@@ -22,8 +28,8 @@ use crate::filter::{FilterState, GmPhdFilter};
 use crate::gating::chi_square_quantile;
 use crate::gaussian::{Label, LabelSource};
 use crate::labels::{
-    apply_relabelling, associate_labels, inherited_label_sets, CurrentEstimate, LabelError,
-    PreviousEstimate,
+    apply_relabelling, associate_labels, inherited_label_sets, report_lost_identities,
+    CurrentEstimate, LabelError, PreviousEstimate,
 };
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::reduce::Ancestry;
@@ -106,6 +112,9 @@ pub struct TrackerState {
     previous_time: f64,
     /// False until the first set was processed.
     started: bool,
+    /// See [`LabelledTracker`]'s field of that name (absent in older checkpoints).
+    #[serde(default)]
+    split_offs: BTreeSet<Label>,
 }
 
 impl TrackerState {
@@ -125,6 +134,11 @@ pub struct LabelledTracker {
     previous: Vec<LabelledEstimate>,
     previous_time: f64,
     started: bool,
+    /// Tracked labels that a current estimate took while descending from another, confirmed
+    /// track's label too: a clutter return beside an object, or one of two objects that
+    /// were merged. They are never confirmed on one set's weight alone
+    /// ([`TrackManager::update_scoped`]).
+    split_offs: BTreeSet<Label>,
 }
 
 impl LabelledTracker {
@@ -143,6 +157,7 @@ impl LabelledTracker {
             previous: Vec::new(),
             previous_time: 0.0,
             started: false,
+            split_offs: BTreeSet::new(),
         })
     }
 
@@ -184,14 +199,36 @@ impl LabelledTracker {
         self.relabel(t, &ancestry)?;
         let motion = self.filter.motion();
         let in_view = |x: &DVector<f64>| sensor.detection_probability(&motion.position(x)) > 0.0;
-        Ok(self
+        let split_offs = &self.split_offs;
+        let events = self
             .tracks
-            .update_in_view(t, self.filter.intensity(), &in_view)?)
+            .update_scoped(t, self.filter.intensity(), &in_view, &|label| {
+                !split_offs.contains(&label)
+            })?;
+        let tracks = &self.tracks;
+        self.split_offs
+            .retain(|&label| tracks.tracks().any(|track| track.label == label));
+        Ok(events)
     }
 
     /// Label continuity (Pham ch. 4): assignment from the previous estimates to the current.
     fn relabel(&mut self, t: f64, ancestry: &Ancestry) -> Result<(), TrackerError> {
-        let estimates = self.extractor.extract(self.filter.intensity())?;
+        let mut estimates = self.extractor.extract(self.filter.intensity())?;
+        if let Ancestry::Recorded(sets) = ancestry {
+            let identities = self
+                .previous
+                .iter()
+                .map(|e| e.label)
+                .chain(self.tracks.confirmed_tracks().map(|track| track.label))
+                .collect();
+            report_lost_identities(
+                self.filter.intensity(),
+                sets,
+                &identities,
+                self.config.extraction_threshold,
+                &mut estimates,
+            );
+        }
         let inherited = match ancestry {
             // Pham's l̃ᴱ: the labels merged into the estimate's component, and its own.
             Ancestry::Recorded(sets) => estimates
@@ -248,6 +285,14 @@ impl LabelledTracker {
                 reach: (gate * spread.max(0.0)).sqrt(),
             });
         }
+        let descends_from_confirmed: Vec<bool> = inherited
+            .iter()
+            .map(|set| {
+                set.heaviest_first()
+                    .first()
+                    .is_some_and(|&(label, _)| self.tracks.is_confirmed(label))
+            })
+            .collect();
         let current: Vec<CurrentEstimate> = estimates
             .iter()
             .zip(inherited)
@@ -265,6 +310,11 @@ impl LabelledTracker {
         let relabelled = apply_relabelling(&mut mixture, &estimates, &relabelling, &mut source);
         self.filter.set_relabelled_intensity(mixture);
         relabelled?;
+        for (&label, descends) in relabelling.labels.iter().zip(descends_from_confirmed) {
+            if descends && !self.tracks.is_confirmed(label) {
+                self.split_offs.insert(label);
+            }
+        }
         self.previous = estimates
             .iter()
             .zip(&relabelling.labels)
@@ -286,6 +336,7 @@ impl LabelledTracker {
             previous: self.previous.clone(),
             previous_time: self.previous_time,
             started: self.started,
+            split_offs: self.split_offs.clone(),
         }
     }
 
@@ -296,6 +347,7 @@ impl LabelledTracker {
         self.previous = state.previous;
         self.previous_time = state.previous_time;
         self.started = state.started;
+        self.split_offs = state.split_offs;
         Ok(())
     }
 }

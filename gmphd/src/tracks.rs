@@ -10,7 +10,8 @@
 //!
 //! * creates a *tentative* track when the label's weight first exceeds
 //!   `confirm_threshold`, and confirms it once that happened in `M` of the last
-//!   `N` sets (cf. MATLAB `trackerPHD` `ConfirmationThreshold`);
+//!   `N` sets, or at once when one set's weight exceeds `confirm_at_once_threshold` (off by
+//!   default; cf. MATLAB `trackerPHD` `ConfirmationThreshold`);
 //! * deletes a track only when its weight has stayed below `delete_threshold` for
 //!   `K` consecutive sets or for `max_coast_s` seconds, whichever comes first
 //!   (cf. `DeletionThreshold`). A pause in the data — an interval between two sets longer
@@ -75,6 +76,12 @@ pub struct TrackManagerConfig {
     /// `M`: hits among the last `N` sets that confirm a track. Default 2, so two
     /// sensors seeing the object, or one seeing it twice, confirm it.
     pub confirm_hits: usize,
+    /// A single set whose weight for the label exceeds this confirms its track at once,
+    /// without waiting for `M` hits (MATLAB `trackerPHD` confirms on one such weight, its
+    /// `ConfirmationThreshold`, default 0.8). Only a sensor that sees the track counts.
+    /// Default: `None` (off), confirmation by `M` of `N` only.
+    #[serde(default)]
+    pub confirm_at_once_threshold: Option<f64>,
     /// A label's weight below this counts toward deletion. Default 0.15: above one
     /// miss at `p_D = 0.8` (weight 0.2), below two consecutive misses (0.04).
     pub delete_threshold: f64,
@@ -93,6 +100,7 @@ impl Default for TrackManagerConfig {
             confirm_threshold: 0.5,
             confirm_window: 4,
             confirm_hits: 2,
+            confirm_at_once_threshold: None,
             delete_threshold: 0.15,
             delete_after_sets: 6,
             max_coast_s: 2.0,
@@ -112,6 +120,13 @@ impl TrackManagerConfig {
         }
         if self.delete_threshold > self.confirm_threshold {
             return invalid("delete_threshold must not exceed confirm_threshold");
+        }
+        if let Some(at_once) = self.confirm_at_once_threshold {
+            if !(at_once.is_finite() && at_once >= self.confirm_threshold) {
+                return invalid(
+                    "confirm_at_once_threshold must be finite and >= confirm_threshold",
+                );
+            }
         }
         if self.confirm_hits == 0 || self.confirm_hits > self.confirm_window {
             return invalid("confirm_hits must be in 1..=confirm_window");
@@ -278,6 +293,21 @@ impl TrackManager {
         intensity: &GaussianMixture,
         in_view: &dyn Fn(&DVector<f64>) -> bool,
     ) -> Result<TrackEvents, TrackError> {
+        self.update_scoped(time_s, intensity, in_view, &|_| true)
+    }
+
+    /// [`TrackManager::update_in_view`], where only labels for which
+    /// `may_confirm_at_once(label)` holds can be confirmed on a single set's weight
+    /// ([`TrackManagerConfig::confirm_at_once_threshold`]). A caller that knows a label
+    /// split off from a confirmed track's — a clutter return beside an object gets its
+    /// weight from the object's — excludes it, so that it needs `M` hits like any other.
+    pub fn update_scoped(
+        &mut self,
+        time_s: f64,
+        intensity: &GaussianMixture,
+        in_view: &dyn Fn(&DVector<f64>) -> bool,
+        may_confirm_at_once: &dyn Fn(Label) -> bool,
+    ) -> Result<TrackEvents, TrackError> {
         if !time_s.is_finite() {
             return Err(TrackError::NonFiniteTime(time_s));
         }
@@ -353,7 +383,12 @@ impl TrackManager {
                 .iter()
                 .filter(|&&w| w > config.confirm_threshold)
                 .count();
-            if !state.track.confirmed && hits >= config.confirm_hits {
+            let strong = seen
+                && config
+                    .confirm_at_once_threshold
+                    .is_some_and(|at_once| weight > at_once)
+                && may_confirm_at_once(label);
+            if !state.track.confirmed && (hits >= config.confirm_hits || strong) {
                 state.track.confirmed = true;
                 events.confirmed.push(label);
             }

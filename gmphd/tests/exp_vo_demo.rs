@@ -15,31 +15,32 @@
 //! * confirm: label weight > 0.3 in 2 of the last 3 scans. A new target's first
 //!   scan gives its birth label ≈ 0.25–0.6 (birth weight 0.03 against clutter
 //!   κ = 1.5e-5 m⁻²); one clutter return near a birth point rarely repeats, so two
-//!   hits reject it (with 1 hit, ≈ 3 false tracks per run appear there).
+//!   hits reject it (with 1 hit, ≈ 3 false tracks per run appear there). One scan
+//!   above 0.8 confirms at once (MATLAB `trackerPHD`'s `ConfirmationThreshold`): a
+//!   birth label cannot reach it on its first scan (at most ≈ 0.6 here), so it takes a
+//!   target that was born one scan earlier and moved as its velocity predicted — a
+//!   target faster than the birth prior's σ = 10 m/s (targets 7, 8, 11, 12 move at
+//!   14–25 m/s) often gets its birth label above 0.3 only on its 2nd scan. Labels that
+//!   split off a confirmed track (clutter beside it) are excluded.
 //! * delete: after 2 consecutive scans below 0.05. A miss (p = 0.02) leaves a
 //!   target's weight at ≈ 0.02 and the next detection lifts it well above 0.05, so
 //!   a track survives one miss; a target that died is dropped on the 2nd scan.
 //!
-//! Acceptance. Mean OSPA ≤ 19 m holds with margin (measured 14.4 m against 20.6 m
-//! for Vo & Ma's extraction). The count is right in 78.1 % of the steps (78.4 % while a
-//! track whose label had vanished from the intensity still coasted), not the
-//! 80 % first aimed at; no setting of the track manager did better (confirm 1–2
-//! hits of 1–4 scans at thresholds 0.2–1.0, delete after 2–4 scans below
-//! 0.02–0.25, extraction threshold 0.3–0.5: 69–78.6 %). Away from births and
-//! deaths the count is right in 94.6 % of the steps; the 30 steps per run that
-//! follow one of the six events (births at k = 1, 20, 40, 60, 80, deaths at 71)
-//! hold most of the misses, for reasons the track manager cannot remove:
-//! * a track needs two scans of evidence, so every birth step is wrong, and a
-//!   target faster than the birth prior's σ = 10 m/s (targets 7, 8, 11, 12 move at
-//!   14–25 m/s) often gets its birth label above 0.3 only on its 3rd or 4th scan;
-//! * targets 4 and 5 are born at k = 20 from the same birth component 15 m apart
-//!   and share its label until the extractor separates them (a second heavy
-//!   member is a separate object only beyond 5 σ, `separation_gate` 25, which
-//!   keeps clutter next to a target from getting an identity); that takes 3–4
-//!   scans, then the new label needs its own two hits;
-//! * the scan in which a target dies always still shows its track.
+//! Targets 4 and 5 are born at k = 20 from the same birth component 15 m apart, and
+//! targets 1 and 2 cross near k = 43; each birth child gets its own label
+//! (`gmphd::newborn`), and a cluster that descends from an identity no estimate carries
+//! any more is reported so that the identity can continue
+//! (`labels::report_lost_identities`). Before those two (session 10) the count was right
+//! in 78.1 % of the steps, the twins sharing one label for 3–4 scans and the crossing
+//! costing one identity and two scans of a new one's confirmation.
 //!
-//! So the test asserts the count right in ≥ 77 % of all steps and ≥ 90 % of the
+//! Acceptance. Mean OSPA ≤ 19 m holds with margin (measured 13.75 m against 20.62 m
+//! for Vo & Ma's extraction); the count is right in 81.3 % of the steps (94.9 % away from
+//! births and deaths). What is left is mostly what no track manager can remove: a track
+//! needs two scans of evidence, so every birth step is wrong, and the scan in which a
+//! target dies still shows its track (k = 71).
+//!
+//! So the test asserts the count right in ≥ 80 % of all steps and ≥ 90 % of the
 //! steps away from births and deaths, and prints every figure.
 
 mod common;
@@ -139,6 +140,7 @@ fn tracker() -> LabelledTracker {
             confirm_threshold: 0.3,
             confirm_window: 3,
             confirm_hits: 2,
+            confirm_at_once_threshold: Some(0.8),
             delete_threshold: 0.05,
             delete_after_sets: 2,
             max_coast_s: f64::INFINITY,
@@ -212,7 +214,7 @@ fn vo_ma_demo_scored_on_confirmed_tracks() {
         tracked.mean_ospa()
     );
     assert!(
-        tracked.cardinality_rate() >= 0.77,
+        tracked.cardinality_rate() >= 0.80,
         "count right in {:.3} of the steps",
         tracked.cardinality_rate()
     );

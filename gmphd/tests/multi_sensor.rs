@@ -216,6 +216,7 @@ fn restore_rejects_a_malformed_checkpoint() {
         next_label: 2,
         pending_births: Vec::new(),
         birth_owed_s: 0.0,
+        newborn_labels: 0..0,
     };
     assert!(phd.restore(wrong_dim).is_err());
     let negative = FilterState {
@@ -229,6 +230,7 @@ fn restore_rejects_a_malformed_checkpoint() {
         next_label: 2,
         pending_births: Vec::new(),
         birth_owed_s: 0.0,
+        newborn_labels: 0..0,
     };
     assert!(phd.restore(negative).is_err());
 }

@@ -158,6 +158,48 @@ fn confirmation_needs_m_hits_in_the_last_n_sets() {
     );
 }
 
+/// With `confirm_at_once_threshold`, one set above it confirms (MATLAB `trackerPHD`'s rule);
+/// a label the caller marks as split off from a confirmed track still needs M hits.
+#[test]
+fn a_strong_single_set_confirms_at_once_unless_split_off() {
+    let config = TrackManagerConfig {
+        confirm_at_once_threshold: Some(0.8),
+        ..TrackManagerConfig::default()
+    };
+    let mut manager = TrackManager::new(config).unwrap();
+    let mixture = mixture_of(&[(2, 0.9), (3, 0.7), (4, 0.9)]);
+    let split_off = |label: Label| label != Label(4);
+    let events = manager
+        .update_scoped(0.0, &mixture, &|_| true, &split_off)
+        .unwrap();
+    assert_eq!(events.created, vec![Label(2), Label(3), Label(4)]);
+    assert_eq!(
+        events.confirmed,
+        vec![Label(2)],
+        "0.7 is no strong set, 4 split off"
+    );
+    let events = manager
+        .update_scoped(1.0, &mixture, &|_| true, &split_off)
+        .unwrap();
+    assert_eq!(events.confirmed, vec![Label(3), Label(4)], "second hits");
+
+    // Off by default: two hits needed.
+    let mut manager = TrackManager::new(TrackManagerConfig::default()).unwrap();
+    let events = manager.update(0.0, &mixture_of(&[(2, 0.99)])).unwrap();
+    assert!(events.confirmed.is_empty());
+
+    for bad in [0.3, f64::NAN, f64::INFINITY] {
+        let config = TrackManagerConfig {
+            confirm_at_once_threshold: Some(bad),
+            ..TrackManagerConfig::default()
+        };
+        assert!(
+            matches!(TrackManager::new(config), Err(TrackError::InvalidConfig(_))),
+            "{bad} below confirm_threshold 0.5 or not finite"
+        );
+    }
+}
+
 #[test]
 fn bad_input_is_a_typed_error() {
     let bad = TrackManagerConfig {
