@@ -179,6 +179,10 @@ pub struct TracksConfig {
     pub confirm_hits: usize,
     /// See `confirm_hits`.
     pub confirm_window: usize,
+    /// One set in which a label's weight exceeds this confirms its track at once (MATLAB
+    /// `trackerPHD`'s rule), except a label that split off a confirmed track's. Absent: off,
+    /// `confirm_hits` only.
+    pub confirm_at_once_threshold: Option<f64>,
     /// A confirmed track whose weight stays below this for `delete_after_sets` consecutive
     /// sets that could see it or for `max_coast_s` seconds is deleted (a pause in the data
     /// longer than `max_coast_s / 2` does not count; see `gmphd::tracks`).
@@ -195,6 +199,7 @@ impl Default for TracksConfig {
             confirm_threshold: 0.5,
             confirm_hits: 3,
             confirm_window: 5,
+            confirm_at_once_threshold: None,
             delete_threshold: 0.15,
             delete_after_sets: 12,
             max_coast_s: 1.0,
@@ -439,6 +444,14 @@ impl TracksConfig {
                 "tracks.confirm_hits",
                 "must be between 1 and tracks.confirm_window",
             ));
+        }
+        if let Some(at_once) = self.confirm_at_once_threshold {
+            if !(at_once.is_finite() && at_once >= self.confirm_threshold) {
+                return Err(invalid(
+                    "tracks.confirm_at_once_threshold",
+                    "must be finite and at least tracks.confirm_threshold",
+                ));
+            }
         }
         if !self.delete_threshold.is_finite()
             || self.delete_threshold < 0.0

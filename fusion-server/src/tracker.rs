@@ -120,7 +120,7 @@ impl Tracker {
                 confirm_threshold: t.confirm_threshold,
                 confirm_window: t.confirm_window,
                 confirm_hits: t.confirm_hits,
-                confirm_at_once_threshold: None,
+                confirm_at_once_threshold: t.confirm_at_once_threshold,
                 delete_threshold: t.delete_threshold,
                 delete_after_sets: t.delete_after_sets,
                 max_coast_s: t.max_coast_s,

@@ -56,6 +56,10 @@ fn bad_values_name_their_key() {
         ("[zenoh]\nconnect = [\"localhost\"]\n", "zenoh.connect"),
         ("[site]\nname = \"a/b\"\n", "site.name"),
         ("[tracks]\nconfirm_hits = 9\n", "tracks.confirm_hits"),
+        (
+            "[tracks]\nconfirm_at_once_threshold = 0.2\n",
+            "tracks.confirm_at_once_threshold",
+        ),
         ("[ingest]\nmax_future_s = -1\n", "ingest.max_future_s"),
     ];
     for (text, key) in cases {
