@@ -30,7 +30,7 @@ use crate::assignment::{min_cost_matching, AssignmentError, CostMatrix};
 use crate::gaussian::{Label, LabelSource};
 use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use thiserror::Error;
 
 /// Why label association failed.
@@ -115,6 +115,11 @@ impl LabelSet {
     /// True when the set holds no label.
     pub fn is_empty(&self) -> bool {
         self.members.is_empty()
+    }
+
+    /// The labels, in insertion order.
+    pub fn labels(&self) -> impl Iterator<Item = Label> + '_ {
+        self.members.iter().map(|&(label, _)| label)
     }
 
     /// Labels with their weights, heaviest first (ties: smaller label first).
@@ -232,21 +237,37 @@ pub fn associate_labels(
         .collect();
     let newborn: Vec<bool> = current
         .iter()
-        .map(|c| !established.iter().any(|&label| c.inherited.contains(label)))
+        .map(|c| {
+            !c.inherited
+                .labels()
+                .any(|label| established.contains(&label))
+        })
         .collect();
-    let distance = |j: usize, i: usize| {
-        let (from, to) = (&previous[j], &current[i]);
-        let inherited = to.inherited.contains(from.label);
-        let may_reach = from.established && from.reach > 0.0 && newborn[i];
-        if !(inherited || may_reach) {
-            return None;
+    // Only allowed pairs are visited: each estimate's inherited labels, looked up among the
+    // previous labels, and the few coasting identities that may reach.
+    let row_of: BTreeMap<Label, usize> = previous
+        .iter()
+        .enumerate()
+        .map(|(j, p)| (p.label, j))
+        .collect();
+    let reaching: Vec<usize> = (0..previous.len())
+        .filter(|&j| previous[j].established && previous[j].reach > 0.0)
+        .collect();
+    let mut entries = vec![None; previous.len() * current.len()];
+    for (i, to) in current.iter().enumerate() {
+        for j in to.inherited.labels().filter_map(|label| row_of.get(&label)) {
+            entries[j * current.len() + i] = Some(euclidean(&to.mean, &previous[*j].predicted));
         }
-        let d = euclidean(&to.mean, &from.predicted);
-        (inherited || d <= from.reach).then_some(d)
-    };
-    let mut entries = Vec::with_capacity(previous.len() * current.len());
-    for j in 0..previous.len() {
-        entries.extend((0..current.len()).map(|i| distance(j, i)));
+        if newborn[i] {
+            for &j in &reaching {
+                let from = &previous[j];
+                let d = euclidean(&to.mean, &from.predicted);
+                let entry = &mut entries[j * current.len() + i];
+                if entry.is_none() && d <= from.reach {
+                    *entry = Some(d);
+                }
+            }
+        }
     }
     // A pair continuing a tentative label costs more than any total distance, so that
     // fewer tentative (more established) continuations always win; see the doc above.
