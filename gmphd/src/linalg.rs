@@ -2,7 +2,8 @@
 
 use std::f64::consts::{PI, TAU};
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::storage::StorageMut;
+use nalgebra::{Cholesky, DMatrix, DVector, Dim, Dyn, Matrix};
 
 use crate::error::FilterError;
 
@@ -31,8 +32,11 @@ pub fn symmetrize(matrix: &DMatrix<f64>) -> DMatrix<f64> {
     (matrix + matrix.transpose()) * 0.5
 }
 
-/// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place.
-pub fn symmetrize_in_place(matrix: &mut DMatrix<f64>) {
+/// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place (of any storage:
+/// the update's fixed-size matrices too).
+pub fn symmetrize_in_place<R: Dim, C: Dim, S: StorageMut<f64, R, C>>(
+    matrix: &mut Matrix<f64, R, C, S>,
+) {
     let n = matrix.nrows().min(matrix.ncols());
     for c in 0..n {
         for r in c + 1..n {

@@ -1,10 +1,11 @@
 //! The pairs of one measurement with the prepared components: gating, log-space weights
 //! and the normaliser, without allocating per pair (buffers live in a [`Scratch`]).
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DefaultAllocator};
 
 use super::component::Detectable;
 use super::correction::Correction;
+use super::dims::{Dims, Storage};
 use crate::gaussian::Gaussian;
 use crate::measurement::{Measurement, MeasurementModel};
 
@@ -45,13 +46,16 @@ pub(super) struct MeasurementPairs {
 ///
 /// A measurement with its own noise covariance needs an innovation factor per pair; it
 /// is computed only for pairs inside the gate's bounding box.
-pub(super) fn score(
-    detectable: &[Detectable<'_>],
+pub(super) fn score<D: Dims>(
+    detectable: &[Detectable<'_, D>],
     nearby: Option<&[usize]>,
     measurement: &Measurement,
     rules: &PairRules<'_>,
     scratch: &mut Scratch,
-) -> MeasurementPairs {
+) -> MeasurementPairs
+where
+    DefaultAllocator: Storage<D>,
+{
     let all = || 0..detectable.len();
     match nearby {
         Some(nearby) => gate_candidates(
@@ -91,14 +95,16 @@ pub(super) fn score(
 
 /// Fills `scratch.candidates` (and their residuals) with the pairs of `measurement`
 /// with the components `indices` (ascending) that lie inside the gate `gate`.
-fn gate_candidates(
-    detectable: &[Detectable<'_>],
+fn gate_candidates<D: Dims>(
+    detectable: &[Detectable<'_, D>],
     indices: impl Iterator<Item = usize>,
     measurement: &Measurement,
     sensor: &dyn MeasurementModel,
     gate: f64,
     scratch: &mut Scratch,
-) {
+) where
+    DefaultAllocator: Storage<D>,
+{
     let dim = measurement.z.len();
     scratch.residual.resize(dim, 0.0);
     scratch.whitened.resize(dim, 0.0);
@@ -171,12 +177,15 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPai
 
 /// log q(z) of a pair whose measurement carries its own noise `noise`, or `None` outside
 /// the gate; the residual is in `scratch.residual`.
-fn own_noise_log_density(
-    d: &Detectable<'_>,
+fn own_noise_log_density<D: Dims>(
+    d: &Detectable<'_, D>,
     noise: &DMatrix<f64>,
     gate: f64,
     scratch: &mut Scratch,
-) -> Option<f64> {
+) -> Option<f64>
+where
+    DefaultAllocator: Storage<D>,
+{
     let outside = scratch.residual.iter().enumerate().any(|(i, r)| {
         let variance = d.z_cov(i, i) + noise[(i, i)];
         r.abs() > (gate * variance).sqrt()
@@ -209,14 +218,16 @@ pub(super) fn mark_default_noise_children(
 /// Appends the children of one measurement's kept pairs to `out`, in pair order. `shared`
 /// holds the default-noise correction of every component marked by
 /// [`mark_default_noise_children`].
-pub(super) fn emit_children(
+pub(super) fn emit_children<D: Dims>(
     pairs: &MeasurementPairs,
     measurement: &Measurement,
-    detectable: &[Detectable<'_>],
-    shared: &[Option<Correction>],
+    detectable: &[Detectable<'_, D>],
+    shared: &[Option<Correction<D>>],
     default_noise: &DMatrix<f64>,
     out: &mut Vec<Gaussian>,
-) {
+) where
+    DefaultAllocator: Storage<D>,
+{
     let dim = measurement.z.len();
     for (i, &(k, weight)) in pairs.pairs.iter().enumerate() {
         let d = &detectable[k];
