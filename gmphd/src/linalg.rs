@@ -34,6 +34,7 @@ pub fn symmetrize(matrix: &DMatrix<f64>) -> DMatrix<f64> {
 
 /// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place (of any storage:
 /// the update's fixed-size matrices too).
+#[inline]
 pub fn symmetrize_in_place<R: Dim, C: Dim, S: StorageMut<f64, R, C>>(
     matrix: &mut Matrix<f64, R, C, S>,
 ) {
@@ -118,6 +119,9 @@ const MAX_JITTER_ROUNDS: usize = 30;
 /// Cholesky factorisation of the m × m matrix with entries `a(r, c)` (its lower triangle is
 /// read) into `lower`, column-major with zeros above the diagonal; false when the matrix is
 /// not numerically positive definite.
+///
+/// Inlined so that each fixed size of the update gets its own unrolled copy.
+#[inline]
 pub(crate) fn lower_cholesky(m: usize, a: impl Fn(usize, usize) -> f64, lower: &mut [f64]) -> bool {
     for j in 0..m {
         let mut diagonal = a(j, j);

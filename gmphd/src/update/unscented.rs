@@ -20,7 +20,12 @@ pub(super) struct UnscentedScratch {
     point: DVector<f64>,
     /// The 2n + 1 transformed points, m entries each.
     outputs: Vec<f64>,
+    /// Per point: whether it is the mean's image (its column moved only what the sensor
+    /// does not see), so that the residuals computed for the mean serve it too.
+    at_centre: Vec<bool>,
     residual: Vec<f64>,
+    /// residual(y₀, y₀), and the residual of y₀ against the predicted measurement.
+    centre_residual: Vec<f64>,
 }
 
 /// Predicted measurement, its covariance (noise not included) and the cross-covariance
@@ -63,12 +68,19 @@ where
     let points = 2 * n + 1;
     scratch.outputs.resize(points * m, 0.0);
     scratch.residual.resize(m, 0.0);
+    scratch.centre_residual.resize(m, 0.0);
+    scratch.at_centre.clear();
+    scratch.at_centre.resize(points, true);
     scratch.point.clone_from(&component.mean);
     // Point 0 is the mean, point 1 + i is mean + column i, point 1 + n + i mean − column i.
     let centre = step.motion.position(&component.mean);
     let (first, rest) = scratch.outputs.split_at_mut(m);
     step.sensor.measure_into(&centre, first);
-    for (j, output) in rest.chunks_exact_mut(m).enumerate() {
+    for ((j, output), at_centre) in rest
+        .chunks_exact_mut(m)
+        .enumerate()
+        .zip(&mut scratch.at_centre[1..])
+    {
         let (column, sign) = if j < n { (j, 1.0) } else { (j - n, -1.0) };
         let root_column = &root[column * n..(column + 1) * n];
         for ((x, mean), l) in scratch
@@ -85,37 +97,53 @@ where
             // factor has taken the position's share): the mean's image, without measuring.
             output.copy_from_slice(first);
         } else {
+            *at_centre = false;
             step.sensor.measure_into(&position, output);
         }
     }
 
     // ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀): angular outputs near ±π average correctly.
+    // A point at the centre has the centre's residuals (computed once, in `centre_residual`).
     let outputs = &scratch.outputs;
+    let at_centre = &scratch.at_centre;
     let mut mean = OVector::<f64, D::M>::from_column_slice_generic(m_dim, U1, &outputs[..m]);
+    step.sensor
+        .residual_into(&outputs[..m], &outputs[..m], &mut scratch.centre_residual);
     for j in 1..points {
-        step.sensor.residual_into(
-            &outputs[j * m..(j + 1) * m],
-            &outputs[..m],
-            &mut scratch.residual,
-        );
-        for (y, r) in mean.iter_mut().zip(&scratch.residual) {
+        let residual = if at_centre[j] {
+            &scratch.centre_residual
+        } else {
+            step.sensor.residual_into(
+                &outputs[j * m..(j + 1) * m],
+                &outputs[..m],
+                &mut scratch.residual,
+            );
+            &scratch.residual
+        };
+        for (y, r) in mean.iter_mut().zip(residual) {
             *y += weights.outer * r;
         }
     }
     let mut cov = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
     let mut cross_cov = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
+    step.sensor
+        .residual_into(&outputs[..m], mean.as_slice(), &mut scratch.centre_residual);
     for j in 0..points {
-        step.sensor.residual_into(
-            &outputs[j * m..(j + 1) * m],
-            mean.as_slice(),
-            &mut scratch.residual,
-        );
+        let dy = if at_centre[j] {
+            &scratch.centre_residual[..m]
+        } else {
+            step.sensor.residual_into(
+                &outputs[j * m..(j + 1) * m],
+                mean.as_slice(),
+                &mut scratch.residual,
+            );
+            &scratch.residual[..m]
+        };
         let w = if j == 0 {
             weights.centre_cov
         } else {
             weights.outer
         };
-        let dy = &scratch.residual[..m];
         // Column-major storage: entry (r, c) of an R-row matrix is at r + c·R.
         for (c, cov_column) in cov.as_mut_slice().chunks_exact_mut(m).enumerate() {
             let scaled = w * dy[c];
