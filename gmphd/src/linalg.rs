@@ -10,6 +10,9 @@ use crate::error::FilterError;
 /// Relative tolerance for accepting a user-supplied matrix as symmetric.
 const SYMMETRY_TOLERANCE: f64 = 1e-9;
 
+/// Entries of the largest square matrix [`check_spd`] factors on the stack (8 × 8).
+const SMALL_SQUARE: usize = 64;
+
 /// Smallest eigenvalue kept by [`nearest_spd`], relative to the largest one.
 ///
 /// 1e-12 keeps the condition number well inside what a Cholesky factorisation
@@ -74,11 +77,27 @@ pub fn check_spd(matrix: &DMatrix<f64>, dim: usize, what: &'static str) -> Resul
         return Err(FilterError::NonFinite { what });
     }
     let scale = matrix.amax().max(f64::MIN_POSITIVE);
-    let asymmetry = (matrix - matrix.transpose()).amax();
+    // Without allocating: the filter validates every component it is handed (births, a
+    // restored checkpoint), many per set.
+    let mut asymmetry = 0.0_f64;
+    for c in 0..dim {
+        for r in c + 1..dim {
+            asymmetry = asymmetry.max((matrix[(r, c)] - matrix[(c, r)]).abs());
+        }
+    }
     if asymmetry > SYMMETRY_TOLERANCE * scale {
         return Err(FilterError::NotPositiveDefinite { what });
     }
-    if Cholesky::new(symmetrize(matrix)).is_none() {
+    let mut stack = [0.0; SMALL_SQUARE];
+    let mut heap = Vec::new();
+    let lower = if dim * dim <= SMALL_SQUARE {
+        &mut stack[..dim * dim]
+    } else {
+        heap.resize(dim * dim, 0.0);
+        &mut heap[..]
+    };
+    let symmetric = |r: usize, c: usize| (matrix[(r, c)] + matrix[(c, r)]) * 0.5;
+    if !lower_cholesky(dim, symmetric, lower) {
         return Err(FilterError::NotPositiveDefinite { what });
     }
     Ok(())
@@ -209,17 +228,64 @@ pub fn gaussian_log_density(residual: &DVector<f64>, chol: &Cholesky<f64, Dyn>) 
 ///
 /// Each entry alone bounds the distance, dᵀ P⁻¹ d ≥ d_k² / P_kk, so a pair with some
 /// d_k² > threshold · P_kk is rejected at once; only the others need the Cholesky factor
-/// of P, computed on first use, and a forward substitution that stops as soon as the
-/// partial sum exceeds the threshold.
+/// of P, computed on first use (kept inline for states of up to [`INLINE_DIM`] entries,
+/// so a reduction does not allocate one per component), and a forward substitution that
+/// stops as soon as the partial sum exceeds the threshold.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct MahalanobisGate {
-    lower: Option<DMatrix<f64>>,
+    lower: Option<GateFactor>,
+}
+
+/// Largest state whose gate factor [`MahalanobisGate`] keeps inline.
+const INLINE_DIM: usize = 6;
+
+/// The lower Cholesky factor of a gate's covariance, column-major.
+#[derive(Debug, Clone)]
+enum GateFactor {
+    Inline([f64; INLINE_DIM * INLINE_DIM]),
+    Heap(DMatrix<f64>),
+}
+
+impl GateFactor {
+    /// The factor of the n × n matrix `cov`: [`lower_cholesky`], or `fallback` when that
+    /// fails (`None` when it fails too).
+    fn new(
+        cov: &DMatrix<f64>,
+        fallback: impl FnOnce(&DMatrix<f64>) -> Option<DMatrix<f64>>,
+    ) -> Option<Self> {
+        let n = cov.nrows();
+        if n <= INLINE_DIM {
+            let mut lower = [0.0; INLINE_DIM * INLINE_DIM];
+            if lower_cholesky(n, |r, c| cov[(r, c)], &mut lower[..n * n]) {
+                return Some(Self::Inline(lower));
+            }
+        } else if let Some(lower) = lower_factor(cov) {
+            return Some(Self::Heap(lower));
+        }
+        let lower = fallback(cov)?;
+        Some(match n <= INLINE_DIM {
+            true => {
+                let mut inline = [0.0; INLINE_DIM * INLINE_DIM];
+                inline[..n * n].copy_from_slice(lower.as_slice());
+                Self::Inline(inline)
+            }
+            false => Self::Heap(lower),
+        })
+    }
+
+    fn as_slice(&self, n: usize) -> &[f64] {
+        match self {
+            Self::Inline(lower) => &lower[..n * n],
+            Self::Heap(lower) => lower.as_slice(),
+        }
+    }
 }
 
 impl MahalanobisGate {
-    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`, with `factor`
-    /// giving the lower Cholesky factor of P when first needed; `None` when `factor`
-    /// fails. `scratch` is resized to the dimension.
+    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`. The lower
+    /// Cholesky factor of P is computed when first needed; `factor` gives it only when the
+    /// plain factorisation fails (a repaired factor, or `None` to give up: then `None`).
+    /// `scratch` is resized to the dimension.
     pub(crate) fn contains(
         &mut self,
         cov: &DMatrix<f64>,
@@ -231,6 +297,7 @@ impl MahalanobisGate {
     ) -> Option<bool> {
         let n = cov.nrows();
         scratch.resize(n, 0.0);
+        let (point, centre) = (&point.as_slice()[..n], &centre.as_slice()[..n]);
         for (k, d) in scratch.iter_mut().enumerate() {
             *d = point[k] - centre[k];
             if *d * *d > threshold * cov[(k, k)] {
@@ -238,9 +305,9 @@ impl MahalanobisGate {
             }
         }
         if self.lower.is_none() {
-            self.lower = Some(factor(cov)?);
+            self.lower = Some(GateFactor::new(cov, factor)?);
         }
-        let l = self.lower.as_ref().map_or(&[][..], |l| l.as_slice());
+        let l = self.lower.as_ref().map_or(&[][..], |l| l.as_slice(n));
         let mut sum = 0.0;
         for i in 0..n {
             let mut v = scratch[i];

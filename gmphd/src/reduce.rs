@@ -3,13 +3,16 @@
 use std::cmp::Ordering;
 use std::fmt::Debug;
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::labels::LabelSet;
-use crate::linalg::{lower_factor, robust_cholesky, symmetrize, MahalanobisGate};
+use crate::linalg::{robust_cholesky, MahalanobisGate};
 use crate::sweep;
+use merge::merge;
+
+mod merge;
 
 /// Where the labels that merging replaced can be found (Pham's inherited label sets).
 #[derive(Debug, Clone, PartialEq)]
@@ -105,29 +108,6 @@ fn heaviest_first(a: (usize, &Gaussian), b: (usize, &Gaussian)) -> Ordering {
         .then(a.0.cmp(&b.0))
 }
 
-/// Moment-matched merge of `members` (at least two), labelled by the first (the heaviest).
-fn merge<'a>(members: impl Iterator<Item = &'a Gaussian> + Clone) -> Gaussian {
-    let first = members.clone().next().expect("a cluster has a member");
-    let weight: f64 = members.clone().map(|g| g.weight).sum();
-    let dim = first.dim();
-    let mut mean = DVector::zeros(dim);
-    for g in members.clone() {
-        mean.axpy(g.weight, &g.mean, 1.0);
-    }
-    mean /= weight;
-    let mut cov = DMatrix::zeros(dim, dim);
-    let mut d = DVector::zeros(dim);
-    for g in members {
-        d.copy_from(&g.mean);
-        d -= &mean;
-        let w = g.weight;
-        cov.zip_apply(&g.cov, |c, p| *c += w * p);
-        cov.ger(w, &d, &d, 1.0);
-    }
-    cov /= weight;
-    Gaussian::new(weight, mean, symmetrize(&cov), first.label)
-}
-
 /// Orders reduced components (with their pivot order and a payload) heaviest first and
 /// keeps at most `max_components`.
 fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(Gaussian, T)> {
@@ -209,9 +189,7 @@ impl PruneMergeCap {
                     continue;
                 }
                 let (candidate, gate) = (kept[i], &mut gates[i]);
-                let robust = |cov: &DMatrix<f64>| {
-                    lower_factor(cov).or_else(|| Some(robust_cholesky(cov).unpack()))
-                };
+                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
                 if candidate.dim() == centre.len()
                     && gate.contains(
                         &candidate.cov,
@@ -293,6 +271,7 @@ impl Reducer for PruneMergeCap {
 mod tests {
     use super::*;
     use crate::gaussian::Label;
+    use nalgebra::DVector;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
