@@ -304,13 +304,13 @@ where
             .collect()
     };
 
-    let mut needed = vec![false; detectable.len()];
-    pairs::mark_default_noise_children(&scored, measurements, &mut needed);
-    let correct = |(d, needed): (&Detectable<'_, D>, &bool)| {
-        needed.then(|| Correction::new(d, &d.innovation, &noise))
+    let mut needed = vec![0; detectable.len()];
+    pairs::count_default_noise_children(&scored, measurements, &mut needed);
+    let correct = |(d, needed): (&Detectable<'_, D>, &usize)| {
+        (*needed > 0).then(|| Correction::new(d, &d.innovation, &noise))
     };
-    let needed_count = needed.iter().filter(|n| **n).count();
-    let shared: Vec<Option<Correction<D>>> = if parallel(needed_count * CORRECTION_NS) {
+    let needed_count = needed.iter().filter(|n| **n > 0).count();
+    let mut shared: Vec<Option<Correction<D>>> = if parallel(needed_count * CORRECTION_NS) {
         detectable.par_iter().zip(&needed).map(correct).collect()
     } else {
         detectable.iter().zip(&needed).map(correct).collect()
@@ -325,7 +325,8 @@ where
             pairs,
             measurement,
             &detectable,
-            &shared,
+            &mut shared,
+            &mut needed,
             &noise,
             &mut children,
         );

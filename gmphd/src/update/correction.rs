@@ -98,16 +98,48 @@ where
 
     /// The child of `component` for residual `r`: m + K r, the shared posterior covariance.
     pub(super) fn child(&self, component: &Gaussian, weight: f64, residual: &[f64]) -> Gaussian {
+        Self::child_of(
+            &self.gain,
+            component,
+            weight,
+            residual,
+            self.posterior_cov.clone(),
+        )
+    }
+
+    /// [`Correction::child`] for the component's last child, which takes the posterior
+    /// covariance instead of a copy.
+    pub(super) fn last_child(
+        self,
+        component: &Gaussian,
+        weight: f64,
+        residual: &[f64],
+    ) -> Gaussian {
+        let Self {
+            gain,
+            posterior_cov,
+        } = self;
+        Self::child_of(&gain, component, weight, residual, posterior_cov)
+    }
+
+    /// m + K r with covariance `cov`.
+    fn child_of(
+        gain: &OMatrix<f64, D::N, D::M>,
+        component: &Gaussian,
+        weight: f64,
+        residual: &[f64],
+        cov: DMatrix<f64>,
+    ) -> Gaussian {
         let mut mean = component.mean.clone();
-        let (n, m) = self.gain.shape();
+        let (n, m) = gain.shape();
         let residual = &residual[..m];
         let x = &mut mean.as_mut_slice()[..n];
         for (k, r) in residual.iter().enumerate() {
-            let column = &self.gain.as_slice()[k * n..(k + 1) * n];
+            let column = &gain.as_slice()[k * n..(k + 1) * n];
             for (x, g) in x.iter_mut().zip(column) {
                 *x += g * r;
             }
         }
-        Gaussian::new(weight, mean, self.posterior_cov.clone(), component.label)
+        Gaussian::new(weight, mean, cov, component.label)
     }
 }

@@ -159,10 +159,11 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPai
     // U(z) = 1 − κ/normaliser, through exp_m1 so that a barely explained measurement
     // keeps its small U exactly; round-off in the log-sum-exp can put it just below 0.
     let explained = -(rules.log_clutter - log_normaliser).exp_m1();
+    let candidates = scratch.candidates.len();
     let mut kept = MeasurementPairs {
         association: explained.max(0.0),
-        pairs: Vec::new(),
-        residuals: Vec::new(),
+        pairs: Vec::with_capacity(candidates),
+        residuals: Vec::with_capacity(candidates * dim),
     };
     for (i, &(k, log_term)) in scratch.candidates.iter().enumerate() {
         let weight = (log_term - log_normaliser).exp();
@@ -199,30 +200,32 @@ where
         .map(|distance| innovation.log_density(distance))
 }
 
-/// Marks in `needed` the components that have a kept pair with the default noise (their
-/// shared correction must be computed).
-pub(super) fn mark_default_noise_children(
+/// Counts in `children` the kept pairs with the default noise of each component (those
+/// with any need their shared correction computed).
+pub(super) fn count_default_noise_children(
     scored: &[MeasurementPairs],
     measurements: &[Measurement],
-    needed: &mut [bool],
+    children: &mut [usize],
 ) {
     for (pairs, measurement) in scored.iter().zip(measurements) {
         if measurement.cov.is_none() {
             for &(k, _) in &pairs.pairs {
-                needed[k] = true;
+                children[k] += 1;
             }
         }
     }
 }
 
 /// Appends the children of one measurement's kept pairs to `out`, in pair order. `shared`
-/// holds the default-noise correction of every component marked by
-/// [`mark_default_noise_children`].
+/// holds the default-noise correction of every component counted by
+/// [`count_default_noise_children`] and `remaining` its children not yet emitted: the last
+/// one takes the correction's posterior covariance instead of a copy.
 pub(super) fn emit_children<D: Dims>(
     pairs: &MeasurementPairs,
     measurement: &Measurement,
     detectable: &[Detectable<'_, D>],
-    shared: &[Option<Correction<D>>],
+    shared: &mut [Option<Correction<D>>],
+    remaining: &mut [usize],
     default_noise: &DMatrix<f64>,
     out: &mut Vec<Gaussian>,
 ) where
@@ -232,8 +235,17 @@ pub(super) fn emit_children<D: Dims>(
     for (i, &(k, weight)) in pairs.pairs.iter().enumerate() {
         let d = &detectable[k];
         let residual = &pairs.residuals[i * dim..(i + 1) * dim];
-        let child = match (&measurement.cov, &shared[k]) {
-            (None, Some(correction)) => correction.child(d.component, weight, residual),
+        let child = match (&measurement.cov, &mut shared[k]) {
+            (None, Some(_)) => {
+                remaining[k] -= 1;
+                if remaining[k] == 0 {
+                    let last = shared[k].take().expect("matched above");
+                    last.last_child(d.component, weight, residual)
+                } else {
+                    let correction = shared[k].as_ref().expect("matched above");
+                    correction.child(d.component, weight, residual)
+                }
+            }
             // A measurement with its own noise (rare: estimates of an agent's own filter)
             // needs a correction of its own for every pair.
             (own, _) => {
