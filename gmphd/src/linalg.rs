@@ -228,64 +228,17 @@ pub fn gaussian_log_density(residual: &DVector<f64>, chol: &Cholesky<f64, Dyn>) 
 ///
 /// Each entry alone bounds the distance, dᵀ P⁻¹ d ≥ d_k² / P_kk, so a pair with some
 /// d_k² > threshold · P_kk is rejected at once; only the others need the Cholesky factor
-/// of P, computed on first use (kept inline for states of up to [`INLINE_DIM`] entries,
-/// so a reduction does not allocate one per component), and a forward substitution that
-/// stops as soon as the partial sum exceeds the threshold.
+/// of P, computed on first use, and a forward substitution that stops as soon as the
+/// partial sum exceeds the threshold.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct MahalanobisGate {
-    lower: Option<GateFactor>,
-}
-
-/// Largest state whose gate factor [`MahalanobisGate`] keeps inline.
-const INLINE_DIM: usize = 6;
-
-/// The lower Cholesky factor of a gate's covariance, column-major.
-#[derive(Debug, Clone)]
-enum GateFactor {
-    Inline([f64; INLINE_DIM * INLINE_DIM]),
-    Heap(DMatrix<f64>),
-}
-
-impl GateFactor {
-    /// The factor of the n × n matrix `cov`: [`lower_cholesky`], or `fallback` when that
-    /// fails (`None` when it fails too).
-    fn new(
-        cov: &DMatrix<f64>,
-        fallback: impl FnOnce(&DMatrix<f64>) -> Option<DMatrix<f64>>,
-    ) -> Option<Self> {
-        let n = cov.nrows();
-        if n <= INLINE_DIM {
-            let mut lower = [0.0; INLINE_DIM * INLINE_DIM];
-            if lower_cholesky(n, |r, c| cov[(r, c)], &mut lower[..n * n]) {
-                return Some(Self::Inline(lower));
-            }
-        } else if let Some(lower) = lower_factor(cov) {
-            return Some(Self::Heap(lower));
-        }
-        let lower = fallback(cov)?;
-        Some(match n <= INLINE_DIM {
-            true => {
-                let mut inline = [0.0; INLINE_DIM * INLINE_DIM];
-                inline[..n * n].copy_from_slice(lower.as_slice());
-                Self::Inline(inline)
-            }
-            false => Self::Heap(lower),
-        })
-    }
-
-    fn as_slice(&self, n: usize) -> &[f64] {
-        match self {
-            Self::Inline(lower) => &lower[..n * n],
-            Self::Heap(lower) => lower.as_slice(),
-        }
-    }
+    lower: Option<DMatrix<f64>>,
 }
 
 impl MahalanobisGate {
-    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`. The lower
-    /// Cholesky factor of P is computed when first needed; `factor` gives it only when the
-    /// plain factorisation fails (a repaired factor, or `None` to give up: then `None`).
-    /// `scratch` is resized to the dimension.
+    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`, with `factor`
+    /// giving the lower Cholesky factor of P when first needed; `None` when `factor`
+    /// fails. `scratch` is resized to the dimension.
     pub(crate) fn contains(
         &mut self,
         cov: &DMatrix<f64>,
@@ -297,7 +250,6 @@ impl MahalanobisGate {
     ) -> Option<bool> {
         let n = cov.nrows();
         scratch.resize(n, 0.0);
-        let (point, centre) = (&point.as_slice()[..n], &centre.as_slice()[..n]);
         for (k, d) in scratch.iter_mut().enumerate() {
             *d = point[k] - centre[k];
             if *d * *d > threshold * cov[(k, k)] {
@@ -305,9 +257,9 @@ impl MahalanobisGate {
             }
         }
         if self.lower.is_none() {
-            self.lower = Some(GateFactor::new(cov, factor)?);
+            self.lower = Some(factor(cov)?);
         }
-        let l = self.lower.as_ref().map_or(&[][..], |l| l.as_slice(n));
+        let l = self.lower.as_ref().map_or(&[][..], |l| l.as_slice());
         let mut sum = 0.0;
         for i in 0..n {
             let mut v = scratch[i];

@@ -3,15 +3,12 @@
 use std::cmp::Ordering;
 use std::fmt::Debug;
 
-use nalgebra::DMatrix;
-
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::labels::LabelSet;
-use crate::linalg::{robust_cholesky, MahalanobisGate};
-use crate::sweep;
 use merge::merge;
 
+mod clusters;
 mod merge;
 
 /// Where the labels that merging replaced can be found (Pham's inherited label sets).
@@ -117,101 +114,6 @@ fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(G
     indexed.into_iter().map(|(_, g)| g).collect()
 }
 
-impl PruneMergeCap {
-    /// Vo & Ma's clusters: indices into `mixture`, one cluster per reduced component in
-    /// pivot (weight) order, each heaviest member first. Pruned components are in none.
-    fn clusters(&self, mixture: &GaussianMixture) -> Vec<Vec<usize>> {
-        let mut order: Vec<(usize, &Gaussian)> = mixture
-            .iter()
-            .enumerate()
-            .filter(|(_, g)| g.weight > self.prune_threshold && g.weight.is_finite())
-            .collect();
-        order.sort_by(|a, b| heaviest_first(*a, *b));
-        let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
-        // Vo & Ma measure the distance with the candidate's own covariance P_i.
-        let mut gates = vec![MahalanobisGate::default(); kept.len()];
-        // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
-        // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
-        // at those within the largest reach of its side of it; the few widest components
-        // (beyond the 90th percentile of reach) would make that window wide, so they are
-        // kept aside and tested against every pivot.
-        let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
-        let reach: Vec<f64> = kept
-            .iter()
-            .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
-            .collect();
-        let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
-        finite_reach.sort_by(f64::total_cmp);
-        let window = finite_reach
-            .get(finite_reach.len() * 9 / 10)
-            .copied()
-            .unwrap_or(0.0);
-        let (mut sorted, mut wide) = (Vec::new(), Vec::new());
-        for (i, g) in kept.iter().enumerate() {
-            if first(g).is_finite() && reach[i] <= window {
-                sorted.push((first(g), i));
-            } else {
-                wide.push(i);
-            }
-        }
-        sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-
-        // Visited by weight: each component not yet merged is a pivot that takes every
-        // later unmerged one within U.
-        let mut unmerged = vec![true; kept.len()];
-        let mut members = Vec::new();
-        let mut candidates = Vec::new();
-        let mut scratch = Vec::new();
-        let mut clusters = Vec::new();
-        for pivot in 0..kept.len() {
-            if !unmerged[pivot] {
-                continue;
-            }
-            let centre = &kept[pivot].mean;
-            members.clear();
-            members.push(pivot);
-            candidates.clear();
-            match sweep::run(&sorted, first(kept[pivot]), window) {
-                Some((start, end)) => {
-                    let near = sorted[start..end].iter().map(|(_, i)| *i);
-                    candidates.extend(
-                        near.chain(wide.iter().copied())
-                            .filter(|&i| i > pivot && unmerged[i]),
-                    );
-                    // Tested (and merged) in weight order, as a full scan would.
-                    candidates.sort_unstable();
-                }
-                // A centre off the index (not finite): every later component.
-                None => candidates.extend(pivot + 1..kept.len()),
-            }
-            for &i in &candidates {
-                if !unmerged[i] {
-                    continue;
-                }
-                let (candidate, gate) = (kept[i], &mut gates[i]);
-                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
-                if candidate.dim() == centre.len()
-                    && gate.contains(
-                        &candidate.cov,
-                        &candidate.mean,
-                        centre,
-                        self.merge_threshold,
-                        &mut scratch,
-                        robust,
-                    ) == Some(true)
-                {
-                    members.push(i);
-                }
-            }
-            for &i in &members {
-                unmerged[i] = false;
-            }
-            clusters.push(members.iter().map(|&i| order[i].0).collect());
-        }
-        clusters
-    }
-}
-
 impl Reducer for PruneMergeCap {
     fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture {
         let merged = self
@@ -271,7 +173,7 @@ impl Reducer for PruneMergeCap {
 mod tests {
     use super::*;
     use crate::gaussian::Label;
-    use nalgebra::DVector;
+    use nalgebra::{DMatrix, DVector};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
