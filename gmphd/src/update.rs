@@ -178,8 +178,8 @@ impl UpdateParts {
 }
 
 /// The work of [`update_gated`], leaving the missed-detection components to the caller.
-pub(crate) fn update_parts<'p>(
-    predicted: &'p GaussianMixture,
+pub(crate) fn update_parts(
+    predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     gating: &Gating,
     measurements: &[Measurement],
