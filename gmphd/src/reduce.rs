@@ -4,7 +4,7 @@ use std::cmp::Ordering;
 use std::fmt::Debug;
 
 use crate::error::{invalid, FilterError};
-use crate::gaussian::{Gaussian, GaussianMixture};
+use crate::gaussian::{Gaussian, GaussianMixture, Label};
 use crate::labels::LabelSet;
 use merge::merge;
 
@@ -97,19 +97,25 @@ impl PruneMergeCap {
     }
 }
 
+/// What orders components: weight, label and position in the input, copied out of the
+/// component so that sorting thousands of them does not chase a pointer per comparison.
+type Rank = (f64, Label, usize);
+
+/// The [`Rank`] of component `g` at position `index`.
+fn rank(index: usize, g: &Gaussian) -> Rank {
+    (g.weight, g.label, index)
+}
+
 /// Heaviest first, then smaller label, then earlier position.
-fn heaviest_first(a: (usize, &Gaussian), b: (usize, &Gaussian)) -> Ordering {
-    b.1.weight
-        .total_cmp(&a.1.weight)
-        .then(a.1.label.cmp(&b.1.label))
-        .then(a.0.cmp(&b.0))
+fn heaviest_first(a: &Rank, b: &Rank) -> Ordering {
+    b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
 }
 
 /// Orders reduced components (with their pivot order and a payload) heaviest first and
 /// keeps at most `max_components`.
 fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(Gaussian, T)> {
     let mut indexed: Vec<(usize, (Gaussian, T))> = merged.into_iter().enumerate().collect();
-    indexed.sort_by(|a, b| heaviest_first((a.0, &a.1 .0), (b.0, &b.1 .0)));
+    indexed.sort_by(|a, b| heaviest_first(&rank(a.0, &a.1 .0), &rank(b.0, &b.1 .0)));
     indexed.truncate(max_components);
     indexed.into_iter().map(|(_, g)| g).collect()
 }
@@ -239,7 +245,7 @@ mod tests {
             .enumerate()
             .filter(|(_, g)| g.weight > reducer.prune_threshold)
             .collect();
-        order.sort_by(|a, b| heaviest_first(*a, *b));
+        order.sort_by(|a, b| heaviest_first(&rank(a.0, a.1), &rank(b.0, b.1)));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         let mut unmerged: Vec<usize> = (0..kept.len()).collect();
         let mut merged = Vec::new();
@@ -261,7 +267,7 @@ mod tests {
             });
         }
         let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
-        indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
+        indexed.sort_by(|a, b| heaviest_first(&rank(a.0, &a.1), &rank(b.0, &b.1)));
         indexed.truncate(reducer.max_components);
         GaussianMixture::from_components(indexed.into_iter().map(|(_, g)| g).collect())
     }

@@ -2,7 +2,7 @@
 
 use nalgebra::DMatrix;
 
-use super::{heaviest_first, PruneMergeCap};
+use super::{heaviest_first, rank, PruneMergeCap, Rank};
 use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::linalg::{lower_factor, robust_cholesky, MahalanobisGate};
 use crate::sweep;
@@ -51,12 +51,13 @@ impl PruneMergeCap {
     /// Vo & Ma's clusters: indices into `mixture`, one cluster per reduced component in
     /// pivot (weight) order, each heaviest member first. Pruned components are in none.
     pub(super) fn clusters(&self, mixture: &GaussianMixture) -> Vec<Vec<usize>> {
-        let mut order: Vec<(usize, &Gaussian)> = mixture
+        let mut order: Vec<(Rank, &Gaussian)> = mixture
             .iter()
             .enumerate()
             .filter(|(_, g)| g.weight > self.prune_threshold && g.weight.is_finite())
+            .map(|(i, g)| (rank(i, g), g))
             .collect();
-        order.sort_by(|a, b| heaviest_first(*a, *b));
+        order.sort_by(|a, b| heaviest_first(&a.0, &b.0));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         let probes: Vec<Probe> = kept
             .iter()
@@ -108,9 +109,12 @@ impl PruneMergeCap {
             match sweep::run(&sorted, first(kept[pivot]), window) {
                 Some((start, end)) => {
                     let near = sorted[start..end].iter().map(|(_, i)| *i);
+                    // The probe's test first: it rejects most, and fewer are left to sort.
+                    let pivot_probe = &probes[pivot];
                     candidates.extend(
-                        near.chain(wide.iter().copied())
-                            .filter(|&i| i > pivot && unmerged[i]),
+                        near.chain(wide.iter().copied()).filter(|&i| {
+                            i > pivot && unmerged[i] && !probes[i].outside(pivot_probe)
+                        }),
                     );
                     // Tested (and merged) in weight order, as a full scan would.
                     candidates.sort_unstable();
@@ -123,6 +127,7 @@ impl PruneMergeCap {
                     continue;
                 }
                 if probes[i].outside(&probes[pivot]) {
+                    // (Only the full scan of a centre off the index gets here untested.)
                     continue;
                 }
                 let (candidate, gate) = (kept[i], &mut gates[i]);
@@ -145,7 +150,7 @@ impl PruneMergeCap {
             for &i in &members {
                 unmerged[i] = false;
             }
-            clusters.push(members.iter().map(|&i| order[i].0).collect());
+            clusters.push(members.iter().map(|&i| order[i].0 .2).collect());
         }
         clusters
     }
