@@ -2,9 +2,9 @@
 //! per-component work (unscented moments, innovation factor, gain, posterior covariance) is
 //! compiled once for each common size with fixed-size nalgebra matrices on the stack
 //! (no allocation, loops of known length, no bounds checks) and once for any size with
-//! dynamic matrices. Both are the same generic code: only the storage differs, and the
-//! arithmetic is done in the same order, so they give the same result bit for bit
-//! (`tests::fixed_and_dynamic_sizes_update_alike`).
+//! dynamic matrices. Both are the same generic code: only the storage differs and the
+//! arithmetic is done in the same order, so they agree (bit for bit in practice; the test
+//! `fixed_and_dynamic_sizes_update_alike` holds them to 1e-9).
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{Const, Dim, Dyn};
