@@ -2,12 +2,16 @@
 
 use std::f64::consts::{PI, TAU};
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::storage::StorageMut;
+use nalgebra::{Cholesky, DMatrix, DVector, Dim, Dyn, Matrix};
 
 use crate::error::FilterError;
 
 /// Relative tolerance for accepting a user-supplied matrix as symmetric.
 const SYMMETRY_TOLERANCE: f64 = 1e-9;
+
+/// Entries of the largest square matrix [`check_spd`] factors on the stack (8 × 8).
+const SMALL_SQUARE: usize = 64;
 
 /// Smallest eigenvalue kept by [`nearest_spd`], relative to the largest one.
 ///
@@ -31,8 +35,12 @@ pub fn symmetrize(matrix: &DMatrix<f64>) -> DMatrix<f64> {
     (matrix + matrix.transpose()) * 0.5
 }
 
-/// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place.
-pub fn symmetrize_in_place(matrix: &mut DMatrix<f64>) {
+/// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place (of any storage:
+/// the update's fixed-size matrices too).
+#[inline]
+pub fn symmetrize_in_place<R: Dim, C: Dim, S: StorageMut<f64, R, C>>(
+    matrix: &mut Matrix<f64, R, C, S>,
+) {
     let n = matrix.nrows().min(matrix.ncols());
     for c in 0..n {
         for r in c + 1..n {
@@ -69,11 +77,27 @@ pub fn check_spd(matrix: &DMatrix<f64>, dim: usize, what: &'static str) -> Resul
         return Err(FilterError::NonFinite { what });
     }
     let scale = matrix.amax().max(f64::MIN_POSITIVE);
-    let asymmetry = (matrix - matrix.transpose()).amax();
+    // Without allocating: the filter validates every component it is handed (births, a
+    // restored checkpoint), many per set.
+    let mut asymmetry = 0.0_f64;
+    for c in 0..dim {
+        for r in c + 1..dim {
+            asymmetry = asymmetry.max((matrix[(r, c)] - matrix[(c, r)]).abs());
+        }
+    }
     if asymmetry > SYMMETRY_TOLERANCE * scale {
         return Err(FilterError::NotPositiveDefinite { what });
     }
-    if Cholesky::new(symmetrize(matrix)).is_none() {
+    let mut stack = [0.0; SMALL_SQUARE];
+    let mut heap = Vec::new();
+    let lower = if dim * dim <= SMALL_SQUARE {
+        &mut stack[..dim * dim]
+    } else {
+        heap.resize(dim * dim, 0.0);
+        &mut heap[..]
+    };
+    let symmetric = |r: usize, c: usize| (matrix[(r, c)] + matrix[(c, r)]) * 0.5;
+    if !lower_cholesky(dim, symmetric, lower) {
         return Err(FilterError::NotPositiveDefinite { what });
     }
     Ok(())
@@ -114,6 +138,9 @@ const MAX_JITTER_ROUNDS: usize = 30;
 /// Cholesky factorisation of the m × m matrix with entries `a(r, c)` (its lower triangle is
 /// read) into `lower`, column-major with zeros above the diagonal; false when the matrix is
 /// not numerically positive definite.
+///
+/// Inlined so that each fixed size of the update gets its own unrolled copy.
+#[inline]
 pub(crate) fn lower_cholesky(m: usize, a: impl Fn(usize, usize) -> f64, lower: &mut [f64]) -> bool {
     for j in 0..m {
         let mut diagonal = a(j, j);

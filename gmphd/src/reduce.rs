@@ -3,13 +3,13 @@
 use std::cmp::Ordering;
 use std::fmt::Debug;
 
-use nalgebra::{DMatrix, DVector};
-
 use crate::error::{invalid, FilterError};
-use crate::gaussian::{Gaussian, GaussianMixture};
+use crate::gaussian::{Gaussian, GaussianMixture, Label};
 use crate::labels::LabelSet;
-use crate::linalg::{lower_factor, robust_cholesky, symmetrize, MahalanobisGate};
-use crate::sweep;
+use merge::merge;
+
+mod clusters;
+mod merge;
 
 /// Where the labels that merging replaced can be found (Pham's inherited label sets).
 #[derive(Debug, Clone, PartialEq)]
@@ -97,141 +97,27 @@ impl PruneMergeCap {
     }
 }
 
-/// Heaviest first, then smaller label, then earlier position.
-fn heaviest_first(a: (usize, &Gaussian), b: (usize, &Gaussian)) -> Ordering {
-    b.1.weight
-        .total_cmp(&a.1.weight)
-        .then(a.1.label.cmp(&b.1.label))
-        .then(a.0.cmp(&b.0))
+/// What orders components: weight, label and position in the input, copied out of the
+/// component so that sorting thousands of them does not chase a pointer per comparison.
+type Rank = (f64, Label, usize);
+
+/// The [`Rank`] of component `g` at position `index`.
+fn rank(index: usize, g: &Gaussian) -> Rank {
+    (g.weight, g.label, index)
 }
 
-/// Moment-matched merge of `members` (at least two), labelled by the first (the heaviest).
-fn merge<'a>(members: impl Iterator<Item = &'a Gaussian> + Clone) -> Gaussian {
-    let first = members.clone().next().expect("a cluster has a member");
-    let weight: f64 = members.clone().map(|g| g.weight).sum();
-    let dim = first.dim();
-    let mut mean = DVector::zeros(dim);
-    for g in members.clone() {
-        mean.axpy(g.weight, &g.mean, 1.0);
-    }
-    mean /= weight;
-    let mut cov = DMatrix::zeros(dim, dim);
-    let mut d = DVector::zeros(dim);
-    for g in members {
-        d.copy_from(&g.mean);
-        d -= &mean;
-        let w = g.weight;
-        cov.zip_apply(&g.cov, |c, p| *c += w * p);
-        cov.ger(w, &d, &d, 1.0);
-    }
-    cov /= weight;
-    Gaussian::new(weight, mean, symmetrize(&cov), first.label)
+/// Heaviest first, then smaller label, then earlier position.
+fn heaviest_first(a: &Rank, b: &Rank) -> Ordering {
+    b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
 }
 
 /// Orders reduced components (with their pivot order and a payload) heaviest first and
 /// keeps at most `max_components`.
 fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(Gaussian, T)> {
     let mut indexed: Vec<(usize, (Gaussian, T))> = merged.into_iter().enumerate().collect();
-    indexed.sort_by(|a, b| heaviest_first((a.0, &a.1 .0), (b.0, &b.1 .0)));
+    indexed.sort_by(|a, b| heaviest_first(&rank(a.0, &a.1 .0), &rank(b.0, &b.1 .0)));
     indexed.truncate(max_components);
     indexed.into_iter().map(|(_, g)| g).collect()
-}
-
-impl PruneMergeCap {
-    /// Vo & Ma's clusters: indices into `mixture`, one cluster per reduced component in
-    /// pivot (weight) order, each heaviest member first. Pruned components are in none.
-    fn clusters(&self, mixture: &GaussianMixture) -> Vec<Vec<usize>> {
-        let mut order: Vec<(usize, &Gaussian)> = mixture
-            .iter()
-            .enumerate()
-            .filter(|(_, g)| g.weight > self.prune_threshold && g.weight.is_finite())
-            .collect();
-        order.sort_by(|a, b| heaviest_first(*a, *b));
-        let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
-        // Vo & Ma measure the distance with the candidate's own covariance P_i.
-        let mut gates = vec![MahalanobisGate::default(); kept.len()];
-        // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
-        // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
-        // at those within the largest reach of its side of it; the few widest components
-        // (beyond the 90th percentile of reach) would make that window wide, so they are
-        // kept aside and tested against every pivot.
-        let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
-        let reach: Vec<f64> = kept
-            .iter()
-            .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
-            .collect();
-        let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
-        finite_reach.sort_by(f64::total_cmp);
-        let window = finite_reach
-            .get(finite_reach.len() * 9 / 10)
-            .copied()
-            .unwrap_or(0.0);
-        let (mut sorted, mut wide) = (Vec::new(), Vec::new());
-        for (i, g) in kept.iter().enumerate() {
-            if first(g).is_finite() && reach[i] <= window {
-                sorted.push((first(g), i));
-            } else {
-                wide.push(i);
-            }
-        }
-        sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-
-        // Visited by weight: each component not yet merged is a pivot that takes every
-        // later unmerged one within U.
-        let mut unmerged = vec![true; kept.len()];
-        let mut members = Vec::new();
-        let mut candidates = Vec::new();
-        let mut scratch = Vec::new();
-        let mut clusters = Vec::new();
-        for pivot in 0..kept.len() {
-            if !unmerged[pivot] {
-                continue;
-            }
-            let centre = &kept[pivot].mean;
-            members.clear();
-            members.push(pivot);
-            candidates.clear();
-            match sweep::run(&sorted, first(kept[pivot]), window) {
-                Some((start, end)) => {
-                    let near = sorted[start..end].iter().map(|(_, i)| *i);
-                    candidates.extend(
-                        near.chain(wide.iter().copied())
-                            .filter(|&i| i > pivot && unmerged[i]),
-                    );
-                    // Tested (and merged) in weight order, as a full scan would.
-                    candidates.sort_unstable();
-                }
-                // A centre off the index (not finite): every later component.
-                None => candidates.extend(pivot + 1..kept.len()),
-            }
-            for &i in &candidates {
-                if !unmerged[i] {
-                    continue;
-                }
-                let (candidate, gate) = (kept[i], &mut gates[i]);
-                let robust = |cov: &DMatrix<f64>| {
-                    lower_factor(cov).or_else(|| Some(robust_cholesky(cov).unpack()))
-                };
-                if candidate.dim() == centre.len()
-                    && gate.contains(
-                        &candidate.cov,
-                        &candidate.mean,
-                        centre,
-                        self.merge_threshold,
-                        &mut scratch,
-                        robust,
-                    ) == Some(true)
-                {
-                    members.push(i);
-                }
-            }
-            for &i in &members {
-                unmerged[i] = false;
-            }
-            clusters.push(members.iter().map(|&i| order[i].0).collect());
-        }
-        clusters
-    }
 }
 
 impl Reducer for PruneMergeCap {
@@ -293,6 +179,7 @@ impl Reducer for PruneMergeCap {
 mod tests {
     use super::*;
     use crate::gaussian::Label;
+    use nalgebra::{DMatrix, DVector};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
@@ -358,7 +245,7 @@ mod tests {
             .enumerate()
             .filter(|(_, g)| g.weight > reducer.prune_threshold)
             .collect();
-        order.sort_by(|a, b| heaviest_first(*a, *b));
+        order.sort_by(|a, b| heaviest_first(&rank(a.0, a.1), &rank(b.0, b.1)));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         let mut unmerged: Vec<usize> = (0..kept.len()).collect();
         let mut merged = Vec::new();
@@ -380,7 +267,7 @@ mod tests {
             });
         }
         let mut indexed: Vec<(usize, Gaussian)> = merged.into_iter().enumerate().collect();
-        indexed.sort_by(|a, b| heaviest_first((a.0, &a.1), (b.0, &b.1)));
+        indexed.sort_by(|a, b| heaviest_first(&rank(a.0, &a.1), &rank(b.0, &b.1)));
         indexed.truncate(reducer.max_components);
         GaussianMixture::from_components(indexed.into_iter().map(|(_, g)| g).collect())
     }

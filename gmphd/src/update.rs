@@ -29,9 +29,11 @@ mod candidates;
 mod component;
 mod correction;
 mod detection;
+mod dims;
 mod pairs;
 mod unscented;
 
+use nalgebra::{DefaultAllocator, OMatrix, OVector};
 use rayon::prelude::*;
 
 use crate::error::FilterError;
@@ -43,6 +45,7 @@ use crate::ukf::UnscentedParams;
 use candidates::CandidateIndex;
 use component::{Detectable, Projection};
 use correction::Correction;
+use dims::{Dims, Dynamic, Fixed, Storage};
 use pairs::{MeasurementPairs, PairRules, Scratch};
 use unscented::UnscentedScratch;
 
@@ -175,8 +178,8 @@ impl UpdateParts {
 }
 
 /// The work of [`update_gated`], leaving the missed-detection components to the caller.
-pub(crate) fn update_parts<'p>(
-    predicted: &'p GaussianMixture,
+pub(crate) fn update_parts(
+    predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     gating: &Gating,
     measurements: &[Measurement],
@@ -185,13 +188,6 @@ pub(crate) fn update_parts<'p>(
     for measurement in measurements {
         step.sensor.validate(measurement)?;
     }
-    let noise = step.sensor.noise_cov();
-    let gate = gating.distance_threshold(step.sensor.dim());
-    let linear_dims = step
-        .sensor
-        .linear_position_dims()
-        .filter(|&d| d <= step.motion.position_dims());
-
     let mut missed = Vec::with_capacity(predicted.len());
     let mut seen = Vec::with_capacity(predicted.len());
     for (index, component) in predicted.iter().enumerate().filter(|(_, c)| c.weight > 0.0) {
@@ -205,6 +201,46 @@ pub(crate) fn update_parts<'p>(
         }
     }
 
+    // The common sizes get the per-component work compiled for them (see `dims`).
+    let n = step.motion.state_dim();
+    let fixed = seen.iter().all(|(c, _)| c.dim() == n);
+    let parts = match (fixed.then_some(n), step.sensor.dim()) {
+        (Some(6), 2) => update_sized(Fixed::<6, 2>, step, gating, measurements, &seen),
+        (Some(6), 3) => update_sized(Fixed::<6, 3>, step, gating, measurements, &seen),
+        (Some(6), 1) => update_sized(Fixed::<6, 1>, step, gating, measurements, &seen),
+        (Some(5), 2) => update_sized(Fixed::<5, 2>, step, gating, measurements, &seen),
+        (Some(4), 2) => update_sized(Fixed::<4, 2>, step, gating, measurements, &seen),
+        (_, m) => update_sized(Dynamic(m), step, gating, measurements, &seen),
+    }?;
+    Ok(UpdateParts {
+        missed,
+        children: parts.0,
+        association: parts.1,
+    })
+}
+
+/// The detection children and U(z) of [`update_parts`] for the components `seen` (with
+/// their log(p_D w)), on the sizes `dims`.
+fn update_sized<'p, D: Dims>(
+    dims: D,
+    step: &UpdateStep<'_>,
+    gating: &Gating,
+    measurements: &[Measurement],
+    seen: &[(&'p Gaussian, f64)],
+) -> Result<(Vec<Gaussian>, Vec<f64>), FilterError>
+where
+    DefaultAllocator: Storage<D>,
+    // Prepared components are shared by, and sent between, rayon's threads.
+    OMatrix<f64, D::N, D::M>: Send + Sync,
+    OMatrix<f64, D::M, D::M>: Send + Sync,
+    OVector<f64, D::M>: Send + Sync,
+{
+    let noise = step.sensor.noise_cov();
+    let gate = gating.distance_threshold(step.sensor.dim());
+    let linear_dims = step
+        .sensor
+        .linear_position_dims()
+        .filter(|&d| d <= step.motion.position_dims());
     let component_ns = if linear_dims.is_some() {
         LINEAR_COMPONENT_NS
     } else {
@@ -212,17 +248,17 @@ pub(crate) fn update_parts<'p>(
     };
     let prepare = |scratch: &mut UnscentedScratch,
                    seen: &(&'p Gaussian, f64)|
-     -> Result<Detectable<'p>, FilterError> {
+     -> Result<Detectable<'p, D>, FilterError> {
         let (component, log_prior) = *seen;
         let projection = match linear_dims {
-            Some(dims) => Projection::Linear { dims },
-            None => Projection::Unscented(unscented::project(component, step, scratch)?),
+            Some(_) => Projection::Linear,
+            None => Projection::Unscented(unscented::project(dims, component, step, scratch)?),
         };
         Ok(Detectable::new(
-            component, log_prior, projection, &noise, gate,
+            dims, component, log_prior, projection, &noise, gate,
         ))
     };
-    let detectable: Vec<Detectable<'_>> = if parallel(seen.len() * component_ns) {
+    let detectable: Vec<Detectable<'_, D>> = if parallel(seen.len() * component_ns) {
         seen.par_iter()
             .map_init(UnscentedScratch::default, prepare)
             .collect::<Result<_, FilterError>>()?
@@ -268,13 +304,13 @@ pub(crate) fn update_parts<'p>(
             .collect()
     };
 
-    let mut needed = vec![false; detectable.len()];
-    pairs::mark_default_noise_children(&scored, measurements, &mut needed);
-    let correct = |(d, needed): (&Detectable<'_>, &bool)| {
-        needed.then(|| Correction::new(d, &d.innovation, &noise))
+    let mut needed = vec![0; detectable.len()];
+    pairs::count_default_noise_children(&scored, measurements, &mut needed);
+    let correct = |(d, needed): (&Detectable<'_, D>, &usize)| {
+        (*needed > 0).then(|| Correction::new(d, &d.innovation, &noise))
     };
-    let needed_count = needed.iter().filter(|n| **n).count();
-    let shared: Vec<Option<Correction>> = if parallel(needed_count * CORRECTION_NS) {
+    let needed_count = needed.iter().filter(|n| **n > 0).count();
+    let mut shared: Vec<Option<Correction<D>>> = if parallel(needed_count * CORRECTION_NS) {
         detectable.par_iter().zip(&needed).map(correct).collect()
     } else {
         detectable.iter().zip(&needed).map(correct).collect()
@@ -289,16 +325,13 @@ pub(crate) fn update_parts<'p>(
             pairs,
             measurement,
             &detectable,
-            &shared,
+            &mut shared,
+            &mut needed,
             &noise,
             &mut children,
         );
     }
-    Ok(UpdateParts {
-        missed,
-        children,
-        association: scored.iter().map(|s| s.association).collect(),
-    })
+    Ok((children, scored.iter().map(|s| s.association).collect()))
 }
 
 /// Whether `work_ns` (estimated single-core nanoseconds) is worth spreading over the

@@ -14,7 +14,10 @@
 //! order — the order the full scan visits them in — so the update's sums, and its output,
 //! are the same bit for bit with or without the index.
 
+use nalgebra::DefaultAllocator;
+
 use super::component::Detectable;
+use super::dims::{Dims, Storage};
 use crate::measurement::Measurement;
 use crate::sweep::IntervalHits;
 
@@ -28,11 +31,14 @@ pub(super) struct CandidateIndex {
 
 impl CandidateIndex {
     /// Indexes `measurements` along dimension `dim` for the `detectable` components.
-    pub(super) fn build(
-        detectable: &[Detectable<'_>],
+    pub(super) fn build<D: Dims>(
+        detectable: &[Detectable<'_, D>],
         measurements: &[Measurement],
         dim: usize,
-    ) -> Self {
+    ) -> Self
+    where
+        DefaultAllocator: Storage<D>,
+    {
         let unindexed: Vec<bool> = measurements.iter().map(|m| m.cov.is_some()).collect();
         let queries: Vec<Option<f64>> = measurements
             .iter()

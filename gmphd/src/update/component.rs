@@ -3,12 +3,13 @@
 //! (Gain and posterior covariance, needed only for components that get a detection child,
 //! are in [`super::correction`].)
 //!
-//! Per component this allocates only what it keeps: nothing for a linear sensor's
-//! projection (a slice of the component), three arrays for an unscented one, and one
-//! buffer for the innovation factor.
+//! On the fixed sizes of [`super::dims`] nothing here is allocated; on the dynamic ones,
+//! only what a component keeps: three arrays for an unscented projection (a linear one is
+//! a slice of the component) and two for the innovation factor.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DefaultAllocator, Dim, OMatrix, OVector, U1};
 
+use super::dims::{Dims, Storage};
 use super::unscented::UnscentedMoments;
 use crate::gaussian::Gaussian;
 use crate::linalg::{lower_cholesky, robust_cholesky};
@@ -17,64 +18,79 @@ use crate::linalg::{lower_cholesky, robust_cholesky};
 const LN_TAU: f64 = 1.837_877_066_409_345_5;
 
 /// A predicted component seen in measurement space (noise not included).
-pub(super) enum Projection {
-    /// H = [I_d 0]: ẑ, H P Hᵀ and P Hᵀ are slices of the component.
-    Linear { dims: usize },
+pub(super) enum Projection<D: Dims>
+where
+    DefaultAllocator: Storage<D>,
+{
+    /// H = [I_m 0]: ẑ, H P Hᵀ and P Hᵀ are slices of the component.
+    Linear,
     /// The unscented transform's moments.
-    Unscented(UnscentedMoments),
+    Unscented(UnscentedMoments<D>),
 }
 
 /// A predicted component the sensor can detect, prepared for the update.
-pub(super) struct Detectable<'a> {
+pub(super) struct Detectable<'a, D: Dims>
+where
+    DefaultAllocator: Storage<D>,
+{
     pub(super) component: &'a Gaussian,
     /// log(p_D · w).
     pub(super) log_prior: f64,
-    projection: Projection,
+    dims: D,
+    projection: Projection<D>,
     /// With the sensor's default noise.
-    pub(super) innovation: Innovation,
+    pub(super) innovation: Innovation<D>,
 }
 
-impl<'a> Detectable<'a> {
-    /// Prepares `component` for a sensor with default noise `noise` and gate `gate` (γ).
+impl<'a, D: Dims> Detectable<'a, D>
+where
+    DefaultAllocator: Storage<D>,
+{
+    /// Prepares `component` for a sensor of sizes `dims` with default noise `noise` and
+    /// gate `gate` (γ).
     pub(super) fn new(
+        dims: D,
         component: &'a Gaussian,
         log_prior: f64,
-        projection: Projection,
+        projection: Projection<D>,
         noise: &DMatrix<f64>,
         gate: f64,
     ) -> Self {
+        let m = dims.measurement();
         let mut detectable = Self {
             component,
             log_prior,
+            dims,
             projection,
-            innovation: Innovation::default(),
+            innovation: Innovation {
+                lower: OMatrix::zeros_generic(m, m),
+                half_width: OVector::zeros_generic(m, U1),
+                log_peak_inverse: 0.0,
+            },
         };
         detectable.innovation = detectable.innovation_with(noise, gate);
         detectable
     }
 
-    /// True for H = [I_d 0] (then the Joseph-form covariance update applies).
+    /// True for H = [I_m 0] (then the Joseph-form covariance update applies).
     pub(super) fn is_linear(&self) -> bool {
-        matches!(self.projection, Projection::Linear { .. })
+        matches!(self.projection, Projection::Linear)
     }
 
     /// Size of the state.
-    pub(super) fn state_dim(&self) -> usize {
-        self.component.dim()
+    pub(super) fn state_dim(&self) -> D::N {
+        self.dims.state(self.component)
     }
 
     /// Size of a measurement.
-    pub(super) fn measurement_dim(&self) -> usize {
-        match &self.projection {
-            Projection::Linear { dims } => *dims,
-            Projection::Unscented(moments) => moments.mean.len(),
-        }
+    pub(super) fn measurement_dim(&self) -> D::M {
+        self.dims.measurement()
     }
 
     /// The predicted measurement ẑ.
     pub(super) fn predicted_z(&self) -> &[f64] {
         match &self.projection {
-            Projection::Linear { dims } => &self.component.mean.as_slice()[..*dims],
+            Projection::Linear => &self.component.mean.as_slice()[..self.measurement_dim().value()],
             Projection::Unscented(moments) => moments.mean.as_slice(),
         }
     }
@@ -82,7 +98,7 @@ impl<'a> Detectable<'a> {
     /// Entry (r, c) of H P Hᵀ (noise not included).
     pub(super) fn z_cov(&self, r: usize, c: usize) -> f64 {
         match &self.projection {
-            Projection::Linear { .. } => self.component.cov[(r, c)],
+            Projection::Linear => self.component.cov[(r, c)],
             Projection::Unscented(moments) => moments.cov[(r, c)],
         }
     }
@@ -90,63 +106,69 @@ impl<'a> Detectable<'a> {
     /// The state–measurement cross-covariance P Hᵀ, n × m, column-major: entry (r, c) is at
     /// r + c·n (for a linear sensor, the first m columns of P).
     pub(super) fn cross_cov(&self) -> &[f64] {
-        let (n, m) = (self.state_dim(), self.measurement_dim());
+        let (n, m) = (self.state_dim().value(), self.measurement_dim().value());
         match &self.projection {
-            Projection::Linear { .. } => &self.component.cov.as_slice()[..n * m],
+            Projection::Linear => &self.component.cov.as_slice()[..n * m],
             Projection::Unscented(moments) => moments.cross_cov.as_slice(),
         }
     }
 
     /// The innovation covariance H P Hᵀ + `noise`, factored, for the gate `gate`.
-    pub(super) fn innovation_with(&self, noise: &DMatrix<f64>, gate: f64) -> Innovation {
-        let m = self.measurement_dim();
+    pub(super) fn innovation_with(&self, noise: &DMatrix<f64>, gate: f64) -> Innovation<D> {
+        let m_dim = self.measurement_dim();
+        let m = m_dim.value();
         let s = |r: usize, c: usize| self.z_cov(r, c) + noise[(r, c)];
-        let mut data = vec![0.0; m * m + m];
-        if !lower_cholesky(m, s, &mut data[..m * m]) {
+        let mut lower = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
+        if !lower_cholesky(m, s, lower.as_mut_slice()) {
             // Not numerically positive definite (a tiny innovation against round-off):
             // the repaired factor, as everywhere else in the filter.
             let repaired = robust_cholesky(&DMatrix::from_fn(m, m, s)).unpack();
-            data[..m * m].copy_from_slice(repaired.as_slice());
+            lower.as_mut_slice().copy_from_slice(repaired.as_slice());
         }
-        let log_det: f64 = (0..m).map(|i| 2.0 * data[i + i * m].ln()).sum();
-        for i in 0..m {
-            data[m * m + i] = (gate * s(i, i)).sqrt();
-        }
+        let log_det: f64 = (0..m).map(|i| 2.0 * lower[(i, i)].ln()).sum();
+        let half_width =
+            OVector::<f64, D::M>::from_fn_generic(m_dim, U1, |i, _| (gate * s(i, i)).sqrt());
         Innovation {
-            dim: m,
-            data,
+            lower,
+            half_width,
             log_peak_inverse: 0.5 * (m as f64 * LN_TAU + log_det),
         }
     }
 }
 
 /// The innovation covariance S = H P Hᵀ + R of one component and noise, factored.
-#[derive(Default)]
-pub(super) struct Innovation {
-    dim: usize,
-    /// The lower Cholesky factor L of S (column-major, m × m), then √(γ S_ii) for each i:
-    /// a residual entry beyond it puts the pair outside the gate γ, since
-    /// rᵀ S⁻¹ r ≥ r_i² / S_ii (+∞ without a gate).
-    data: Vec<f64>,
+pub(super) struct Innovation<D: Dims>
+where
+    DefaultAllocator: Storage<D>,
+{
+    /// The lower Cholesky factor L of S.
+    lower: OMatrix<f64, D::M, D::M>,
+    /// √(γ S_ii) for each i: a residual entry beyond it puts the pair outside the gate γ,
+    /// since rᵀ S⁻¹ r ≥ r_i² / S_ii (+∞ without a gate).
+    half_width: OVector<f64, D::M>,
     /// ½ (m ln 2π + ln det S): −log of the density's peak.
     log_peak_inverse: f64,
 }
 
-impl Innovation {
-    fn lower(&self) -> &[f64] {
-        &self.data[..self.dim * self.dim]
+impl<D: Dims> Innovation<D>
+where
+    DefaultAllocator: Storage<D>,
+{
+    /// The lower factor L, column-major, and its size m.
+    fn lower(&self) -> (&[f64], usize) {
+        (self.lower.as_slice(), self.lower.nrows())
     }
 
     /// √(γ S_ii): the gate's extent along measurement dimension `i` (+∞ without a gate).
     pub(super) fn half_width(&self, i: usize) -> f64 {
-        self.data[self.dim * self.dim + i]
+        self.half_width[i]
     }
 
     /// True when some entry of `residual` alone puts the pair outside the gate.
     pub(super) fn outside_box(&self, residual: &[f64]) -> bool {
         residual
             .iter()
-            .zip(&self.data[self.dim * self.dim..])
+            .zip(self.half_width.iter())
             .any(|(r, h)| r.abs() > *h)
     }
 
@@ -158,8 +180,7 @@ impl Innovation {
         whitened: &mut [f64],
         limit: f64,
     ) -> Option<f64> {
-        let m = self.dim;
-        let l = self.lower();
+        let (l, m) = self.lower();
         let mut sum = 0.0;
         for i in 0..m {
             let mut v = residual[i];
@@ -183,8 +204,7 @@ impl Innovation {
 
     /// x ← S⁻¹ x, by forward then backward substitution with L.
     pub(super) fn solve_in_place(&self, x: &mut [f64]) {
-        let m = self.dim;
-        let l = self.lower();
+        let (l, m) = self.lower();
         for i in 0..m {
             let mut v = x[i];
             for k in 0..i {

@@ -1,10 +1,11 @@
 //! The pairs of one measurement with the prepared components: gating, log-space weights
 //! and the normaliser, without allocating per pair (buffers live in a [`Scratch`]).
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DefaultAllocator};
 
 use super::component::Detectable;
 use super::correction::Correction;
+use super::dims::{Dims, Storage};
 use crate::gaussian::Gaussian;
 use crate::measurement::{Measurement, MeasurementModel};
 
@@ -45,13 +46,16 @@ pub(super) struct MeasurementPairs {
 ///
 /// A measurement with its own noise covariance needs an innovation factor per pair; it
 /// is computed only for pairs inside the gate's bounding box.
-pub(super) fn score(
-    detectable: &[Detectable<'_>],
+pub(super) fn score<D: Dims>(
+    detectable: &[Detectable<'_, D>],
     nearby: Option<&[usize]>,
     measurement: &Measurement,
     rules: &PairRules<'_>,
     scratch: &mut Scratch,
-) -> MeasurementPairs {
+) -> MeasurementPairs
+where
+    DefaultAllocator: Storage<D>,
+{
     let all = || 0..detectable.len();
     match nearby {
         Some(nearby) => gate_candidates(
@@ -91,14 +95,16 @@ pub(super) fn score(
 
 /// Fills `scratch.candidates` (and their residuals) with the pairs of `measurement`
 /// with the components `indices` (ascending) that lie inside the gate `gate`.
-fn gate_candidates(
-    detectable: &[Detectable<'_>],
+fn gate_candidates<D: Dims>(
+    detectable: &[Detectable<'_, D>],
     indices: impl Iterator<Item = usize>,
     measurement: &Measurement,
     sensor: &dyn MeasurementModel,
     gate: f64,
     scratch: &mut Scratch,
-) {
+) where
+    DefaultAllocator: Storage<D>,
+{
     let dim = measurement.z.len();
     scratch.residual.resize(dim, 0.0);
     scratch.whitened.resize(dim, 0.0);
@@ -153,10 +159,11 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPai
     // U(z) = 1 − κ/normaliser, through exp_m1 so that a barely explained measurement
     // keeps its small U exactly; round-off in the log-sum-exp can put it just below 0.
     let explained = -(rules.log_clutter - log_normaliser).exp_m1();
+    let candidates = scratch.candidates.len();
     let mut kept = MeasurementPairs {
         association: explained.max(0.0),
-        pairs: Vec::new(),
-        residuals: Vec::new(),
+        pairs: Vec::with_capacity(candidates),
+        residuals: Vec::with_capacity(candidates * dim),
     };
     for (i, &(k, log_term)) in scratch.candidates.iter().enumerate() {
         let weight = (log_term - log_normaliser).exp();
@@ -171,12 +178,15 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPai
 
 /// log q(z) of a pair whose measurement carries its own noise `noise`, or `None` outside
 /// the gate; the residual is in `scratch.residual`.
-fn own_noise_log_density(
-    d: &Detectable<'_>,
+fn own_noise_log_density<D: Dims>(
+    d: &Detectable<'_, D>,
     noise: &DMatrix<f64>,
     gate: f64,
     scratch: &mut Scratch,
-) -> Option<f64> {
+) -> Option<f64>
+where
+    DefaultAllocator: Storage<D>,
+{
     let outside = scratch.residual.iter().enumerate().any(|(i, r)| {
         let variance = d.z_cov(i, i) + noise[(i, i)];
         r.abs() > (gate * variance).sqrt()
@@ -190,39 +200,52 @@ fn own_noise_log_density(
         .map(|distance| innovation.log_density(distance))
 }
 
-/// Marks in `needed` the components that have a kept pair with the default noise (their
-/// shared correction must be computed).
-pub(super) fn mark_default_noise_children(
+/// Counts in `children` the kept pairs with the default noise of each component (those
+/// with any need their shared correction computed).
+pub(super) fn count_default_noise_children(
     scored: &[MeasurementPairs],
     measurements: &[Measurement],
-    needed: &mut [bool],
+    children: &mut [usize],
 ) {
     for (pairs, measurement) in scored.iter().zip(measurements) {
         if measurement.cov.is_none() {
             for &(k, _) in &pairs.pairs {
-                needed[k] = true;
+                children[k] += 1;
             }
         }
     }
 }
 
 /// Appends the children of one measurement's kept pairs to `out`, in pair order. `shared`
-/// holds the default-noise correction of every component marked by
-/// [`mark_default_noise_children`].
-pub(super) fn emit_children(
+/// holds the default-noise correction of every component counted by
+/// [`count_default_noise_children`] and `remaining` its children not yet emitted: the last
+/// one takes the correction's posterior covariance instead of a copy.
+pub(super) fn emit_children<D: Dims>(
     pairs: &MeasurementPairs,
     measurement: &Measurement,
-    detectable: &[Detectable<'_>],
-    shared: &[Option<Correction>],
+    detectable: &[Detectable<'_, D>],
+    shared: &mut [Option<Correction<D>>],
+    remaining: &mut [usize],
     default_noise: &DMatrix<f64>,
     out: &mut Vec<Gaussian>,
-) {
+) where
+    DefaultAllocator: Storage<D>,
+{
     let dim = measurement.z.len();
     for (i, &(k, weight)) in pairs.pairs.iter().enumerate() {
         let d = &detectable[k];
         let residual = &pairs.residuals[i * dim..(i + 1) * dim];
-        let child = match (&measurement.cov, &shared[k]) {
-            (None, Some(correction)) => correction.child(d.component, weight, residual),
+        let child = match (&measurement.cov, &mut shared[k]) {
+            (None, Some(_)) => {
+                remaining[k] -= 1;
+                if remaining[k] == 0 {
+                    let last = shared[k].take().expect("matched above");
+                    last.last_child(d.component, weight, residual)
+                } else {
+                    let correction = shared[k].as_ref().expect("matched above");
+                    correction.child(d.component, weight, residual)
+                }
+            }
             // A measurement with its own noise (rare: estimates of an agent's own filter)
             // needs a correction of its own for every pair.
             (own, _) => {

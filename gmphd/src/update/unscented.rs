@@ -1,10 +1,13 @@
 //! The unscented transform of one component into a sensor's measurement space, as
 //! [`SigmaPoints::transform`](crate::ukf::SigmaPoints::transform) computes it, but with its
 //! buffers kept in an [`UnscentedScratch`] that one worker thread reuses for every
-//! component: besides the three results nothing is allocated per component.
+//! component, and its results sized by the update's [`Dims`](super::dims): on the fixed
+//! sizes nothing is allocated per component (loops of known length, unrolled, without
+//! bounds checks); on the dynamic fallback only the three results are.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DVector, DefaultAllocator, Dim, OMatrix, OVector, U1};
 
+use super::dims::{Dims, Storage};
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
@@ -13,70 +16,73 @@ use crate::linalg::{lower_cholesky, robust_cholesky};
 /// Reusable buffers of the transform.
 #[derive(Default)]
 pub(super) struct UnscentedScratch {
-    /// Lower Cholesky factor of (n + λ) P, column-major n × n.
-    root: Vec<f64>,
-    /// One sigma point.
+    /// One sigma point (a `DVector`, which is what motion models take).
     point: DVector<f64>,
     /// The 2n + 1 transformed points, m entries each.
     outputs: Vec<f64>,
+    /// Per point: whether it is the mean's image (its column moved only what the sensor
+    /// does not see), so that the residuals computed for the mean serve it too.
+    at_centre: Vec<bool>,
     residual: Vec<f64>,
+    /// residual(y₀, y₀), and the residual of y₀ against the predicted measurement.
+    centre_residual: Vec<f64>,
 }
 
 /// Predicted measurement, its covariance (noise not included) and the cross-covariance
 /// with the state.
-pub(super) struct UnscentedMoments {
-    pub(super) mean: DVector<f64>,
-    pub(super) cov: DMatrix<f64>,
-    pub(super) cross_cov: DMatrix<f64>,
+pub(super) struct UnscentedMoments<D: Dims>
+where
+    DefaultAllocator: Storage<D>,
+{
+    pub(super) mean: OVector<f64, D::M>,
+    pub(super) cov: OMatrix<f64, D::M, D::M>,
+    pub(super) cross_cov: OMatrix<f64, D::N, D::M>,
 }
 
-/// The unscented moments of `component` seen by `step.sensor` through `step.motion`.
-pub(super) fn project(
+/// The unscented moments of `component` seen by `step.sensor` through `step.motion`, for
+/// the sizes `dims` (the component's state size and the sensor's measurement size).
+pub(super) fn project<D: Dims>(
+    dims: D,
     component: &Gaussian,
     step: &UpdateStep<'_>,
     scratch: &mut UnscentedScratch,
-) -> Result<UnscentedMoments, FilterError> {
-    // The common sizes get a copy of the transform compiled for them (`project_sized` is
-    // inlined with constant sizes: loops of known length unrolled, most bounds checks gone);
-    // the arithmetic is the same in every copy.
-    match (component.dim(), step.sensor.dim()) {
-        (6, 2) => project_sized(6, 2, component, step, scratch),
-        (6, 3) => project_sized(6, 3, component, step, scratch),
-        (6, 1) => project_sized(6, 1, component, step, scratch),
-        (5, 2) => project_sized(5, 2, component, step, scratch),
-        (4, 2) => project_sized(4, 2, component, step, scratch),
-        (n, m) => project_sized(n, m, component, step, scratch),
-    }
-}
-
-/// [`project`] for a state of size `n` and measurements of size `m`.
-#[inline(always)]
-fn project_sized(
-    n: usize,
-    m: usize,
-    component: &Gaussian,
-    step: &UpdateStep<'_>,
-    scratch: &mut UnscentedScratch,
-) -> Result<UnscentedMoments, FilterError> {
+) -> Result<UnscentedMoments<D>, FilterError>
+where
+    DefaultAllocator: Storage<D>,
+{
+    let (n_dim, m_dim) = (dims.state(component), dims.measurement());
+    let (n, m) = (n_dim.value(), m_dim.value());
     let weights = step.unscented.weights(n)?;
-    scratch.root.resize(n * n, 0.0);
+    let mut root = OMatrix::<f64, D::N, D::N>::zeros_generic(n_dim, n_dim);
     let spread = weights.spread;
-    if !lower_cholesky(n, |r, c| spread * component.cov[(r, c)], &mut scratch.root) {
+    if !lower_cholesky(
+        n,
+        |r, c| spread * component.cov[(r, c)],
+        root.as_mut_slice(),
+    ) {
         // Repair a covariance made slightly indefinite by round-off, as SigmaPoints does.
-        let root = robust_cholesky(&(&component.cov * weights.spread)).unpack();
-        scratch.root.copy_from_slice(root.as_slice());
+        let repaired = robust_cholesky(&(&component.cov * weights.spread)).unpack();
+        root.as_mut_slice().copy_from_slice(repaired.as_slice());
     }
+    let root = root.as_slice();
     let points = 2 * n + 1;
     scratch.outputs.resize(points * m, 0.0);
     scratch.residual.resize(m, 0.0);
+    scratch.centre_residual.resize(m, 0.0);
+    scratch.at_centre.clear();
+    scratch.at_centre.resize(points, true);
     scratch.point.clone_from(&component.mean);
     // Point 0 is the mean, point 1 + i is mean + column i, point 1 + n + i mean − column i.
     let centre = step.motion.position(&component.mean);
     let (first, rest) = scratch.outputs.split_at_mut(m);
     step.sensor.measure_into(&centre, first);
-    for (j, output) in rest.chunks_exact_mut(m).enumerate() {
+    for ((j, output), at_centre) in rest
+        .chunks_exact_mut(m)
+        .enumerate()
+        .zip(&mut scratch.at_centre[1..])
+    {
         let (column, sign) = if j < n { (j, 1.0) } else { (j - n, -1.0) };
-        let root_column = &scratch.root[column * n..(column + 1) * n];
+        let root_column = &root[column * n..(column + 1) * n];
         for ((x, mean), l) in scratch
             .point
             .iter_mut()
@@ -91,37 +97,53 @@ fn project_sized(
             // factor has taken the position's share): the mean's image, without measuring.
             output.copy_from_slice(first);
         } else {
+            *at_centre = false;
             step.sensor.measure_into(&position, output);
         }
     }
 
     // ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀): angular outputs near ±π average correctly.
+    // A point at the centre has the centre's residuals (computed once, in `centre_residual`).
     let outputs = &scratch.outputs;
-    let mut mean = DVector::from_column_slice(&outputs[..m]);
+    let at_centre = &scratch.at_centre;
+    let mut mean = OVector::<f64, D::M>::from_column_slice_generic(m_dim, U1, &outputs[..m]);
+    step.sensor
+        .residual_into(&outputs[..m], &outputs[..m], &mut scratch.centre_residual);
     for j in 1..points {
-        step.sensor.residual_into(
-            &outputs[j * m..(j + 1) * m],
-            &outputs[..m],
-            &mut scratch.residual,
-        );
-        for (y, r) in mean.iter_mut().zip(&scratch.residual) {
+        let residual = if at_centre[j] {
+            &scratch.centre_residual
+        } else {
+            step.sensor.residual_into(
+                &outputs[j * m..(j + 1) * m],
+                &outputs[..m],
+                &mut scratch.residual,
+            );
+            &scratch.residual
+        };
+        for (y, r) in mean.iter_mut().zip(residual) {
             *y += weights.outer * r;
         }
     }
-    let mut cov = DMatrix::zeros(m, m);
-    let mut cross_cov = DMatrix::zeros(n, m);
+    let mut cov = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
+    let mut cross_cov = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
+    step.sensor
+        .residual_into(&outputs[..m], mean.as_slice(), &mut scratch.centre_residual);
     for j in 0..points {
-        step.sensor.residual_into(
-            &outputs[j * m..(j + 1) * m],
-            mean.as_slice(),
-            &mut scratch.residual,
-        );
+        let dy = if at_centre[j] {
+            &scratch.centre_residual[..m]
+        } else {
+            step.sensor.residual_into(
+                &outputs[j * m..(j + 1) * m],
+                mean.as_slice(),
+                &mut scratch.residual,
+            );
+            &scratch.residual[..m]
+        };
         let w = if j == 0 {
             weights.centre_cov
         } else {
             weights.outer
         };
-        let dy = &scratch.residual;
         // Column-major storage: entry (r, c) of an R-row matrix is at r + c·R.
         for (c, cov_column) in cov.as_mut_slice().chunks_exact_mut(m).enumerate() {
             let scaled = w * dy[c];
@@ -132,7 +154,7 @@ fn project_sized(
         // x_j − x_0 is ± a column of the root (zero for the centre point).
         if j > 0 {
             let (column, signed_weight) = if j <= n { (j - 1, w) } else { (j - 1 - n, -w) };
-            let dx = &scratch.root[column * n..(column + 1) * n];
+            let dx = &root[column * n..(column + 1) * n];
             for (c, cross_column) in cross_cov.as_mut_slice().chunks_exact_mut(n).enumerate() {
                 let scaled = signed_weight * dy[c];
                 for (entry, x) in cross_column.iter_mut().zip(dx) {
@@ -162,6 +184,8 @@ mod tests {
     use crate::measurement::{BearingRange, Detection, MeasurementModel};
     use crate::motion::CoordinatedTurn;
     use crate::ukf::{SigmaPoints, UnscentedParams};
+    use crate::update::dims::{Dynamic, Fixed};
+    use nalgebra::DMatrix;
 
     #[test]
     fn matches_the_generic_transform() {
@@ -182,7 +206,12 @@ mod tests {
             sensor: &sensor,
             unscented: &params,
         };
-        let fast = project(&component, &step, &mut UnscentedScratch::default()).unwrap();
+        let scratch = &mut UnscentedScratch::default();
+        let fast = project(Dynamic(2), &component, &step, scratch).unwrap();
+        let fixed = project(Fixed::<5, 2>, &component, &step, scratch).unwrap();
+        assert_eq!(fixed.mean.as_slice(), fast.mean.as_slice());
+        assert_eq!(fixed.cov.as_slice(), fast.cov.as_slice());
+        assert_eq!(fixed.cross_cov.as_slice(), fast.cross_cov.as_slice());
         let generic = SigmaPoints::new(&mean, &cov, &params).unwrap().transform(
             |x| sensor.measure(&crate::motion::MotionModel::position(&motion, x)),
             |a, b| sensor.residual(a, b),
