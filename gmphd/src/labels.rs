@@ -122,6 +122,14 @@ impl LabelSet {
         self.members.iter().map(|&(label, _)| label)
     }
 
+    /// The heaviest label (ties: the smaller label), without sorting the set.
+    pub fn heaviest(&self) -> Option<Label> {
+        self.members
+            .iter()
+            .min_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)))
+            .map(|&(label, _)| label)
+    }
+
     /// Labels with their weights, heaviest first (ties: smaller label first).
     pub fn heaviest_first(&self) -> Vec<(Label, f64)> {
         let mut sorted = self.members.clone();

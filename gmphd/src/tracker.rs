@@ -288,9 +288,8 @@ impl LabelledTracker {
         let descends_from_confirmed: Vec<bool> = inherited
             .iter()
             .map(|set| {
-                set.heaviest_first()
-                    .first()
-                    .is_some_and(|&(label, _)| self.tracks.is_confirmed(label))
+                set.heaviest()
+                    .is_some_and(|label| self.tracks.is_confirmed(label))
             })
             .collect();
         let current: Vec<CurrentEstimate> = estimates
