@@ -319,7 +319,9 @@ impl GmPhdFilter {
             sensor,
             unscented: &self.config.unscented,
         };
-        let parts = update_parts(&self.intensity, &step, &gating, measurements)?;
+        let parts = update_parts(&self.intensity, &step, &gating, measurements, |_| {
+            Vec::new()
+        })?;
         // The prior is not needed any more: its components are moved, not copied.
         let outcome = parts.moving_from(std::mem::take(&mut self.intensity));
         if let Some(adaptive) = &mut self.adaptive_birth {

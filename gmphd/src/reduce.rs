@@ -113,11 +113,23 @@ fn heaviest_first(a: &Rank, b: &Rank) -> Ordering {
 
 /// Orders reduced components (with their pivot order and a payload) heaviest first and
 /// keeps at most `max_components`.
+///
+/// The ranks are sorted rather than the components: a component and its payload are a
+/// few hundred bytes that a sort would move several times each. Ranks are distinct (they
+/// end with the position), so the unstable sort gives the order a stable one would.
 fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(Gaussian, T)> {
-    let mut indexed: Vec<(usize, (Gaussian, T))> = merged.into_iter().enumerate().collect();
-    indexed.sort_by(|a, b| heaviest_first(&rank(a.0, &a.1 .0), &rank(b.0, &b.1 .0)));
-    indexed.truncate(max_components);
-    indexed.into_iter().map(|(_, g)| g).collect()
+    let mut ranks: Vec<Rank> = merged
+        .iter()
+        .enumerate()
+        .map(|(i, (g, _))| rank(i, g))
+        .collect();
+    ranks.sort_unstable_by(heaviest_first);
+    ranks.truncate(max_components);
+    let mut slots: Vec<Option<(Gaussian, T)>> = merged.into_iter().map(Some).collect();
+    ranks
+        .iter()
+        .map(|&(_, _, i)| slots[i].take().expect("each position is ranked once"))
+        .collect()
 }
 
 impl Reducer for PruneMergeCap {

@@ -124,40 +124,39 @@ pub fn update_gated(
     gating: &Gating,
     measurements: &[Measurement],
 ) -> Result<UpdateOutcome, FilterError> {
-    Ok(update_parts(predicted, step, gating, measurements)?.copying_from(predicted))
+    // The missed-detection copies go first into the output, so that the children are
+    // emitted behind them instead of being moved there afterwards.
+    let copies = |missed: &[(usize, f64)]| {
+        let copy = |&(i, weight): &(usize, f64)| Gaussian {
+            weight,
+            ..predicted.components[i].clone()
+        };
+        missed.iter().map(copy).collect()
+    };
+    let parts = update_parts(predicted, step, gating, measurements, copies)?;
+    Ok(UpdateOutcome {
+        posterior: GaussianMixture::from_components(parts.children),
+        association: parts.association,
+    })
 }
 
 /// An update's result before its missed-detection components are made: those are
-/// the predicted components with a new weight, which the caller either copies
-/// ([`UpdateParts::copying_from`]) or, when it no longer needs the prior, moves
+/// the predicted components with a new weight, which the caller either copies (in the
+/// `first` components of [`update_parts`]) or, when it no longer needs the prior, moves
 /// ([`UpdateParts::moving_from`]), saving a copy of every component.
 pub(crate) struct UpdateParts {
     /// (index into the predicted components, (1 − p_D) w), in input order.
     missed: Vec<(usize, f64)>,
-    /// The detection children, in output order.
+    /// The components `update_parts` was asked to start with, then the detection
+    /// children, in output order.
     children: Vec<Gaussian>,
     /// U(z) per measurement.
     association: Vec<f64>,
 }
 
 impl UpdateParts {
-    /// The outcome, copying the missed-detection components from `predicted`.
-    fn copying_from(self, predicted: &GaussianMixture) -> UpdateOutcome {
-        let missed = self.missed.iter().map(|&(i, weight)| Gaussian {
-            weight,
-            ..predicted.components[i].clone()
-        });
-        let mut components = Vec::with_capacity(self.missed.len() + self.children.len());
-        components.extend(missed);
-        components.extend(self.children);
-        UpdateOutcome {
-            posterior: GaussianMixture::from_components(components),
-            association: self.association,
-        }
-    }
-
     /// The outcome, moving the missed-detection components out of `predicted` — the
-    /// mixture [`update_parts`] was given.
+    /// mixture [`update_parts`] was given, with no components to start with.
     pub(crate) fn moving_from(self, predicted: GaussianMixture) -> UpdateOutcome {
         let mut components = Vec::with_capacity(self.missed.len() + self.children.len());
         let mut missed = self.missed.iter().peekable();
@@ -177,12 +176,15 @@ impl UpdateParts {
     }
 }
 
-/// The work of [`update_gated`], leaving the missed-detection components to the caller.
+/// The work of [`update_gated`]: the detection children are appended to the components
+/// `first` makes from the missed-detection list (index, (1 − p_D) w); the caller turns
+/// that list into components, or not (see [`UpdateParts`]).
 pub(crate) fn update_parts(
     predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     gating: &Gating,
     measurements: &[Measurement],
+    first: impl FnOnce(&[(usize, f64)]) -> Vec<Gaussian>,
 ) -> Result<UpdateParts, FilterError> {
     gating.validate()?;
     for measurement in measurements {
@@ -200,34 +202,33 @@ pub(crate) fn update_parts(
             seen.push((component, (p_d * component.weight).ln()));
         }
     }
+    let mut children = first(&missed);
 
     // The common sizes get the per-component work compiled for them (see `dims`).
     let n = step.motion.state_dim();
     let fixed = seen.iter().all(|(c, _)| c.dim() == n);
-    let parts = match (fixed.then_some(n), step.sensor.dim()) {
-        (Some(6), 2) => update_sized(Fixed::<6, 2>, step, gating, measurements, &seen),
-        (Some(6), 3) => update_sized(Fixed::<6, 3>, step, gating, measurements, &seen),
-        (Some(6), 1) => update_sized(Fixed::<6, 1>, step, gating, measurements, &seen),
-        (Some(5), 2) => update_sized(Fixed::<5, 2>, step, gating, measurements, &seen),
-        (Some(4), 2) => update_sized(Fixed::<4, 2>, step, gating, measurements, &seen),
-        (_, m) => update_sized(Dynamic(m), step, gating, measurements, &seen),
+    let args = (step, gating, measurements, &seen[..], &mut children);
+    let association = match (fixed.then_some(n), step.sensor.dim()) {
+        (Some(6), 2) => update_sized(Fixed::<6, 2>, args),
+        (Some(6), 3) => update_sized(Fixed::<6, 3>, args),
+        (Some(6), 1) => update_sized(Fixed::<6, 1>, args),
+        (Some(5), 2) => update_sized(Fixed::<5, 2>, args),
+        (Some(4), 2) => update_sized(Fixed::<4, 2>, args),
+        (_, m) => update_sized(Dynamic(m), args),
     }?;
     Ok(UpdateParts {
         missed,
-        children: parts.0,
-        association: parts.1,
+        children,
+        association,
     })
 }
 
-/// The detection children and U(z) of [`update_parts`] for the components `seen` (with
-/// their log(p_D w)), on the sizes `dims`.
+/// U(z) of [`update_parts`], appending the detection children to `children`, for the
+/// components `seen` (with their log(p_D w)), on the sizes `dims`.
 fn update_sized<'p, D: Dims>(
     dims: D,
-    step: &UpdateStep<'_>,
-    gating: &Gating,
-    measurements: &[Measurement],
-    seen: &[(&'p Gaussian, f64)],
-) -> Result<(Vec<Gaussian>, Vec<f64>), FilterError>
+    (step, gating, measurements, seen, children): SizedArgs<'_, 'p>,
+) -> Result<Vec<f64>, FilterError>
 where
     DefaultAllocator: Storage<D>,
     // Prepared components are shared by, and sent between, rayon's threads.
@@ -263,10 +264,14 @@ where
             .map_init(UnscentedScratch::default, prepare)
             .collect::<Result<_, FilterError>>()?
     } else {
+        // Pushed into a Vec of the final size: collecting through `Result` would grow it
+        // by doubling, moving every (few-hundred-byte) prepared component each time.
         let mut scratch = UnscentedScratch::default();
-        seen.iter()
-            .map(|s| prepare(&mut scratch, s))
-            .collect::<Result<_, FilterError>>()?
+        let mut detectable = Vec::with_capacity(seen.len());
+        for s in seen {
+            detectable.push(prepare(&mut scratch, s)?);
+        }
+        detectable
     };
 
     let rules = PairRules {
@@ -319,7 +324,7 @@ where
     // Emission is serial: it is mostly allocation, which does not scale across threads
     // (and children freed on another thread than their allocating one cost more).
     let kept: usize = scored.iter().map(|s| s.pairs.len()).sum();
-    let mut children = Vec::with_capacity(kept);
+    children.reserve(kept);
     for (pairs, measurement) in scored.iter().zip(measurements) {
         pairs::emit_children(
             pairs,
@@ -328,11 +333,22 @@ where
             &mut shared,
             &mut needed,
             &noise,
-            &mut children,
+            children,
         );
     }
-    Ok((children, scored.iter().map(|s| s.association).collect()))
+    Ok(scored.iter().map(|s| s.association).collect())
 }
+
+/// What [`update_sized`] works on besides the sizes: the models, the gate, the
+/// measurements, the detectable components with their log(p_D w), and the components
+/// to append the children to.
+type SizedArgs<'a, 'p> = (
+    &'a UpdateStep<'a>,
+    &'a Gating,
+    &'a [Measurement],
+    &'a [(&'p Gaussian, f64)],
+    &'a mut Vec<Gaussian>,
+);
 
 /// Whether `work_ns` (estimated single-core nanoseconds) is worth spreading over the
 /// rayon pool: only with more than one thread and enough work.

@@ -57,7 +57,8 @@ impl PruneMergeCap {
             .filter(|(_, g)| g.weight > self.prune_threshold && g.weight.is_finite())
             .map(|(i, g)| (rank(i, g), g))
             .collect();
-        order.sort_by(|a, b| heaviest_first(&a.0, &b.0));
+        // Ranks are distinct, so the unstable sorts below order as stable ones would.
+        order.sort_unstable_by(|a, b| heaviest_first(&a.0, &b.0));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         let probes: Vec<Probe> = kept
             .iter()
@@ -76,7 +77,7 @@ impl PruneMergeCap {
             .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
             .collect();
         let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
-        finite_reach.sort_by(f64::total_cmp);
+        finite_reach.sort_unstable_by(f64::total_cmp);
         let window = finite_reach
             .get(finite_reach.len() * 9 / 10)
             .copied()
@@ -89,7 +90,7 @@ impl PruneMergeCap {
                 wide.push(i);
             }
         }
-        sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
 
         // Visited by weight: each component not yet merged is a pivot that takes every
         // later unmerged one within U.

@@ -29,6 +29,8 @@ pub(super) struct Scratch {
     candidates: Vec<(usize, f64)>,
     /// Their residuals, `dim` entries each.
     candidate_residuals: Vec<f64>,
+    /// Their exp(log term − largest log term), in [`weigh`].
+    relative: Vec<f64>,
 }
 
 /// The kept pairs of one measurement.
@@ -135,7 +137,7 @@ fn gate_candidates<D: Dims>(
 }
 
 /// The normaliser, U(z) and the kept pairs from the candidates in `scratch`.
-fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPairs {
+fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &mut Scratch) -> MeasurementPairs {
     let max = scratch
         .candidates
         .iter()
@@ -149,12 +151,12 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPai
             residuals: Vec::new(),
         };
     }
-    let sum: f64 = (rules.log_clutter - max).exp()
-        + scratch
-            .candidates
-            .iter()
-            .map(|(_, t)| (t - max).exp())
-            .sum::<f64>();
+    // exp(tᵢ − max) once per candidate: the weight is its share of the sum.
+    scratch.relative.clear();
+    scratch
+        .relative
+        .extend(scratch.candidates.iter().map(|(_, t)| (t - max).exp()));
+    let sum: f64 = (rules.log_clutter - max).exp() + scratch.relative.iter().sum::<f64>();
     let log_normaliser = max + sum.ln();
     // U(z) = 1 − κ/normaliser, through exp_m1 so that a barely explained measurement
     // keeps its small U exactly; round-off in the log-sum-exp can put it just below 0.
@@ -165,8 +167,8 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &Scratch) -> MeasurementPai
         pairs: Vec::with_capacity(candidates),
         residuals: Vec::with_capacity(candidates * dim),
     };
-    for (i, &(k, log_term)) in scratch.candidates.iter().enumerate() {
-        let weight = (log_term - log_normaliser).exp();
+    for (i, (&(k, _), relative)) in scratch.candidates.iter().zip(&scratch.relative).enumerate() {
+        let weight = relative / sum;
         if weight > 0.0 && weight >= rules.min_weight {
             kept.pairs.push((k, weight));
             kept.residuals

@@ -92,44 +92,55 @@ where
             *x = mean + sign * l;
         }
         let position = step.motion.position(&scratch.point);
-        if position == centre {
-            // A column that moves only the unseen part of the state (a velocity, once the
-            // factor has taken the position's share): the mean's image, without measuring.
-            output.copy_from_slice(first);
-        } else {
+        // A column that moves only the unseen part of the state (a velocity, once the
+        // factor has taken the position's share) gives the mean's image: not measured, and
+        // its output slot is never read.
+        if position != centre {
             *at_centre = false;
             step.sensor.measure_into(&position, output);
         }
     }
 
     // ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀): angular outputs near ±π average correctly.
-    // A point at the centre has the centre's residuals (computed once, in `centre_residual`).
+    // Points at the centre all have the centre's residual (computed once, in
+    // `centre_residual`), so they are counted instead of visited: with the position leading
+    // the state, the velocity columns of the factor give n of the 2n outer points, and
+    // skipping them halves the work of the moments.
     let outputs = &scratch.outputs;
     let at_centre = &scratch.at_centre;
     let mut mean = OVector::<f64, D::M>::from_column_slice_generic(m_dim, U1, &outputs[..m]);
     step.sensor
         .residual_into(&outputs[..m], &outputs[..m], &mut scratch.centre_residual);
-    for j in 1..points {
-        let residual = if at_centre[j] {
-            &scratch.centre_residual
-        } else {
-            step.sensor.residual_into(
-                &outputs[j * m..(j + 1) * m],
-                &outputs[..m],
-                &mut scratch.residual,
-            );
-            &scratch.residual
-        };
-        for (y, r) in mean.iter_mut().zip(residual) {
+    let centred = at_centre[1..].iter().filter(|c| **c).count();
+    for j in (1..points).filter(|&j| !at_centre[j]) {
+        step.sensor.residual_into(
+            &outputs[j * m..(j + 1) * m],
+            &outputs[..m],
+            &mut scratch.residual,
+        );
+        for (y, r) in mean.iter_mut().zip(&scratch.residual) {
             *y += weights.outer * r;
+        }
+    }
+    if centred > 0 {
+        let centre_weight = centred as f64 * weights.outer;
+        for (y, r) in mean.iter_mut().zip(&scratch.centre_residual) {
+            *y += centre_weight * r;
         }
     }
     let mut cov = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
     let mut cross_cov = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
     step.sensor
         .residual_into(&outputs[..m], mean.as_slice(), &mut scratch.centre_residual);
-    for j in 0..points {
-        let dy = if at_centre[j] {
+    // Whether point j's contribution to the cross-covariance cancels: a point at the centre
+    // whose mirror image (the same column, the other sign) is at the centre too adds
+    // ±w·column·dyᵀ with the same dy.
+    let cancels = |j: usize| {
+        let mirror = if j <= n { j + n } else { j - n };
+        at_centre[j] && at_centre[mirror]
+    };
+    for j in (0..points).filter(|&j| j == 0 || !cancels(j)) {
+        let dy = if j == 0 || at_centre[j] {
             &scratch.centre_residual[..m]
         } else {
             step.sensor.residual_into(
@@ -139,21 +150,28 @@ where
             );
             &scratch.residual[..m]
         };
-        let w = if j == 0 {
-            weights.centre_cov
-        } else {
-            weights.outer
+        // The centre point carries the covariance weight of every point at the centre.
+        let w = match j {
+            0 => weights.centre_cov + centred as f64 * weights.outer,
+            _ if at_centre[j] => 0.0,
+            _ => weights.outer,
         };
         // Column-major storage: entry (r, c) of an R-row matrix is at r + c·R.
-        for (c, cov_column) in cov.as_mut_slice().chunks_exact_mut(m).enumerate() {
-            let scaled = w * dy[c];
-            for (entry, y) in cov_column.iter_mut().zip(dy) {
-                *entry += scaled * y;
+        if w != 0.0 {
+            for (c, cov_column) in cov.as_mut_slice().chunks_exact_mut(m).enumerate() {
+                let scaled = w * dy[c];
+                for (entry, y) in cov_column.iter_mut().zip(dy) {
+                    *entry += scaled * y;
+                }
             }
         }
         // x_j − x_0 is ± a column of the root (zero for the centre point).
         if j > 0 {
-            let (column, signed_weight) = if j <= n { (j - 1, w) } else { (j - 1 - n, -w) };
+            let (column, signed_weight) = if j <= n {
+                (j - 1, weights.outer)
+            } else {
+                (j - 1 - n, -weights.outer)
+            };
             let dx = &root[column * n..(column + 1) * n];
             for (c, cross_column) in cross_cov.as_mut_slice().chunks_exact_mut(n).enumerate() {
                 let scaled = signed_weight * dy[c];
