@@ -37,7 +37,6 @@
 use crate::gaussian::{Gaussian, GaussianMixture, Label};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use thiserror::Error;
 
 /// Why extraction failed.
@@ -177,16 +176,22 @@ impl StateExtractor for WeightThresholdExtractor {
                 }
             }
             Grouping::ByLabel => {
-                let mut groups: BTreeMap<Label, Vec<usize>> = BTreeMap::new();
-                for (index, component) in intensity.iter().enumerate() {
-                    groups.entry(component.label).or_default().push(index);
-                }
-                for (label, mut members) in groups {
-                    let weight = |i: usize| intensity.components[i].weight;
-                    let mass: f64 = members.iter().map(|&i| weight(i)).sum();
+                // Each label's components in input order: one sort of distinct (label,
+                // index) pairs rather than a map of per-label lists.
+                let weight = |i: usize| intensity.components[i].weight;
+                let mut by_label: Vec<(Label, usize)> = intensity
+                    .iter()
+                    .enumerate()
+                    .map(|(index, component)| (component.label, index))
+                    .collect();
+                by_label.sort_unstable();
+                for group in by_label.chunk_by(|a, b| a.0 == b.0) {
+                    let label = group[0].0;
+                    let mass: f64 = group.iter().map(|&(_, i)| weight(i)).sum();
                     if mass <= self.threshold {
                         continue;
                     }
+                    let mut members: Vec<usize> = group.iter().map(|&(_, i)| i).collect();
                     members.sort_by(|&a, &b| weight(b).total_cmp(&weight(a)));
                     let mut reported = vec![members[0]];
                     for &candidate in &members[1..] {

@@ -49,7 +49,8 @@ impl IntervalHits {
             .enumerate()
             .filter_map(|(q, value)| value.map(|v| (v, q)))
             .collect();
-        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // (Distinct pairs: the unstable sort orders them as a stable one would.)
+        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
 
         // The run of `sorted` each item reaches.
         let runs: Vec<(usize, usize)> = intervals

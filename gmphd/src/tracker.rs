@@ -315,12 +315,12 @@ impl LabelledTracker {
             }
         }
         self.previous = estimates
-            .iter()
+            .into_iter()
             .zip(&relabelling.labels)
             .map(|(estimate, &label)| LabelledEstimate {
                 label,
-                mean: estimate.mean.clone(),
-                cov: estimate.cov.clone(),
+                mean: estimate.mean,
+                cov: estimate.cov,
             })
             .collect();
         self.previous_time = t;

@@ -57,7 +57,7 @@ impl PruneMergeCap {
             .filter(|(_, g)| g.weight > self.prune_threshold && g.weight.is_finite())
             .map(|(i, g)| (rank(i, g), g))
             .collect();
-        // Ranks are distinct, so the unstable sorts below order as stable ones would.
+        // Ranks are distinct, so an unstable sort orders them as a stable one would.
         order.sort_unstable_by(|a, b| heaviest_first(&a.0, &b.0));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
         let probes: Vec<Probe> = kept
@@ -67,30 +67,19 @@ impl PruneMergeCap {
         // Vo & Ma measure the distance with the candidate's own covariance P_i.
         let mut gates = vec![MahalanobisGate::default(); kept.len()];
         // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
-        // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
-        // at those within the largest reach of its side of it; the few widest components
-        // (beyond the 90th percentile of reach) would make that window wide, so they are
-        // kept aside and tested against every pivot.
+        // candidate's reach. So a pivot need only look at the candidates whose reach along
+        // the first coordinate covers it: stabbed into every component's first coordinate
+        // at once ([`sweep`]), listed in ascending (weight) order.
         let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
-        let reach: Vec<f64> = kept
+        let queries: Vec<Option<f64>> = kept
             .iter()
-            .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
+            .map(|g| Some(first(g)).filter(|x| x.is_finite()))
             .collect();
-        let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
-        finite_reach.sort_unstable_by(f64::total_cmp);
-        let window = finite_reach
-            .get(finite_reach.len() * 9 / 10)
-            .copied()
-            .unwrap_or(0.0);
-        let (mut sorted, mut wide) = (Vec::new(), Vec::new());
-        for (i, g) in kept.iter().enumerate() {
-            if first(g).is_finite() && reach[i] <= window {
-                sorted.push((first(g), i));
-            } else {
-                wide.push(i);
-            }
-        }
-        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let reach = kept.iter().map(|g| {
+            let variance = g.cov.get((0, 0)).copied().unwrap_or(f64::NAN);
+            (first(g), (self.merge_threshold * variance).sqrt())
+        });
+        let reaching = sweep::IntervalHits::build(&queries, reach);
 
         // Visited by weight: each component not yet merged is a pivot that takes every
         // later unmerged one within U.
@@ -107,18 +96,15 @@ impl PruneMergeCap {
             members.clear();
             members.push(pivot);
             candidates.clear();
-            match sweep::run(&sorted, first(kept[pivot]), window) {
-                Some((start, end)) => {
-                    let near = sorted[start..end].iter().map(|(_, i)| *i);
-                    // The probe's test first: it rejects most, and fewer are left to sort.
+            match queries[pivot] {
+                Some(_) => {
+                    // The probe's test first: it rejects most.
                     let pivot_probe = &probes[pivot];
                     candidates.extend(
-                        near.chain(wide.iter().copied()).filter(|&i| {
+                        reaching.hits(pivot).iter().copied().filter(|&i| {
                             i > pivot && unmerged[i] && !probes[i].outside(pivot_probe)
                         }),
                     );
-                    // Tested (and merged) in weight order, as a full scan would.
-                    candidates.sort_unstable();
                 }
                 // A centre off the index (not finite): every later component.
                 None => candidates.extend(pivot + 1..kept.len()),
