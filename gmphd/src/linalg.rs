@@ -142,7 +142,20 @@ const MAX_JITTER_ROUNDS: usize = 30;
 /// Inlined so that each fixed size of the update gets its own unrolled copy.
 #[inline]
 pub(crate) fn lower_cholesky(m: usize, a: impl Fn(usize, usize) -> f64, lower: &mut [f64]) -> bool {
-    for j in 0..m {
+    lower_cholesky_columns(m, m, a, lower)
+}
+
+/// The first `columns` columns of [`lower_cholesky`]'s factor (the rest of `lower` is not
+/// written), which depend on the first `columns` columns of the matrix only; false when one
+/// of their pivots is not positive.
+#[inline]
+pub(crate) fn lower_cholesky_columns(
+    m: usize,
+    columns: usize,
+    a: impl Fn(usize, usize) -> f64,
+    lower: &mut [f64],
+) -> bool {
+    for j in 0..columns.min(m) {
         let mut diagonal = a(j, j);
         for k in 0..j {
             diagonal -= lower[j + k * m] * lower[j + k * m];

@@ -27,7 +27,8 @@ pub trait MotionModel: Send + Sync + Debug {
     fn position_dims(&self) -> usize;
 
     /// The 3-D world point of a state; a 2-D state is padded with the model's
-    /// fixed height.
+    /// fixed height. It depends on the leading [`MotionModel::position_dims`] entries of
+    /// the state only (the unscented update relies on it).
     fn position(&self, x: &DVector<f64>) -> Vector3<f64>;
 
     /// The 3-D world velocity of a state, if the state has one (padded with 0).

@@ -11,7 +11,7 @@ use super::dims::{Dims, Storage};
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
-use crate::linalg::{lower_cholesky, robust_cholesky};
+use crate::linalg::{lower_cholesky_columns, robust_cholesky};
 
 /// Reusable buffers of the transform.
 #[derive(Default)]
@@ -53,10 +53,17 @@ where
     let (n_dim, m_dim) = (dims.state(component), dims.measurement());
     let (n, m) = (n_dim.value(), m_dim.value());
     let weights = step.unscented.weights(n)?;
+    // A position is a function of the state's leading `position_dims` entries (the
+    // `MotionModel` contract) and column j of a lower factor is zero above row j, so only the
+    // first d columns move the position: the other 2(n − d) sigma points (the velocities',
+    // once the factor has taken the position's share) are the mean's image. Only the first d
+    // columns are factored and visited.
+    let d = step.motion.position_dims().min(n);
     let mut root = OMatrix::<f64, D::N, D::N>::zeros_generic(n_dim, n_dim);
     let spread = weights.spread;
-    if !lower_cholesky(
+    if !lower_cholesky_columns(
         n,
+        d,
         |r, c| spread * component.cov[(r, c)],
         root.as_mut_slice(),
     ) {
@@ -82,6 +89,9 @@ where
         .zip(&mut scratch.at_centre[1..])
     {
         let (column, sign) = if j < n { (j, 1.0) } else { (j - n, -1.0) };
+        if column >= d {
+            continue;
+        }
         let root_column = &root[column * n..(column + 1) * n];
         for ((x, mean), l) in scratch
             .point
@@ -92,9 +102,8 @@ where
             *x = mean + sign * l;
         }
         let position = step.motion.position(&scratch.point);
-        // A column that moves only the unseen part of the state (a velocity, once the
-        // factor has taken the position's share) gives the mean's image: not measured, and
-        // its output slot is never read.
+        // The mean's image (a column without spread in the position) is not measured, and its
+        // output slot is never read.
         if position != centre {
             *at_centre = false;
             step.sensor.measure_into(&position, output);
