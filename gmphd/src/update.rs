@@ -207,14 +207,14 @@ pub(crate) fn update_parts(
     // The common sizes get the per-component work compiled for them (see `dims`).
     let n = step.motion.state_dim();
     let fixed = seen.iter().all(|(c, _)| c.dim() == n);
-    let args = (step, gating, measurements, &seen[..], &mut children);
+    let out = &mut children;
     let association = match (fixed.then_some(n), step.sensor.dim()) {
-        (Some(6), 2) => update_sized(Fixed::<6, 2>, args),
-        (Some(6), 3) => update_sized(Fixed::<6, 3>, args),
-        (Some(6), 1) => update_sized(Fixed::<6, 1>, args),
-        (Some(5), 2) => update_sized(Fixed::<5, 2>, args),
-        (Some(4), 2) => update_sized(Fixed::<4, 2>, args),
-        (_, m) => update_sized(Dynamic(m), args),
+        (Some(6), 2) => update_sized(Fixed::<6, 2>, step, gating, measurements, &seen, out),
+        (Some(6), 3) => update_sized(Fixed::<6, 3>, step, gating, measurements, &seen, out),
+        (Some(6), 1) => update_sized(Fixed::<6, 1>, step, gating, measurements, &seen, out),
+        (Some(5), 2) => update_sized(Fixed::<5, 2>, step, gating, measurements, &seen, out),
+        (Some(4), 2) => update_sized(Fixed::<4, 2>, step, gating, measurements, &seen, out),
+        (_, m) => update_sized(Dynamic(m), step, gating, measurements, &seen, out),
     }?;
     Ok(UpdateParts {
         missed,
@@ -227,7 +227,11 @@ pub(crate) fn update_parts(
 /// components `seen` (with their log(p_D w)), on the sizes `dims`.
 fn update_sized<'p, D: Dims>(
     dims: D,
-    (step, gating, measurements, seen, children): SizedArgs<'_, 'p>,
+    step: &UpdateStep<'_>,
+    gating: &Gating,
+    measurements: &[Measurement],
+    seen: &[(&'p Gaussian, f64)],
+    children: &mut Vec<Gaussian>,
 ) -> Result<Vec<f64>, FilterError>
 where
     DefaultAllocator: Storage<D>,
@@ -338,17 +342,6 @@ where
     }
     Ok(scored.iter().map(|s| s.association).collect())
 }
-
-/// What [`update_sized`] works on besides the sizes: the models, the gate, the
-/// measurements, the detectable components with their log(p_D w), and the components
-/// to append the children to.
-type SizedArgs<'a, 'p> = (
-    &'a UpdateStep<'a>,
-    &'a Gating,
-    &'a [Measurement],
-    &'a [(&'p Gaussian, f64)],
-    &'a mut Vec<Gaussian>,
-);
 
 /// Whether `work_ns` (estimated single-core nanoseconds) is worth spreading over the
 /// rayon pool: only with more than one thread and enough work.

@@ -148,12 +148,10 @@ mod tests {
         let gating = Gating::default();
         let (mut a, mut b) = (Vec::new(), Vec::new());
         let a_association =
-            update_sized(fixed, (&step, &gating, &measurements, &seen, &mut a)).unwrap();
-        let b_association = update_sized::<Dynamic>(
-            Dynamic(sensor.dim()),
-            (&step, &gating, &measurements, &seen, &mut b),
-        )
-        .unwrap();
+            update_sized(fixed, &step, &gating, &measurements, &seen, &mut a).unwrap();
+        let dynamic = Dynamic(sensor.dim());
+        let b_association =
+            update_sized::<Dynamic>(dynamic, &step, &gating, &measurements, &seen, &mut b).unwrap();
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
         assert!(a.len() > measurements.len(), "{} children only", a.len());
         assert_eq!(a.len(), b.len());
