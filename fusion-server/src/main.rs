@@ -10,10 +10,11 @@ use fusion_server::config::ServerConfig;
 use fusion_server::{plot, replay, service};
 use tracing_subscriber::EnvFilter;
 
-/// The filter allocates a mean and a covariance per updated component; mimalloc serves
-/// those small blocks much faster than glibc's malloc (BENCHMARKS.md).
+/// The filter allocates a mean and a covariance per updated component; mimalloc (through
+/// `small-alloc`'s plain entry points) serves those small blocks much faster than glibc's
+/// malloc (BENCHMARKS.md).
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: small_alloc::SmallAlloc = small_alloc::SmallAlloc;
 
 /// Multi-sensor multi-object tracking: asynchronous sequential GM-PHD fusion over Zenoh.
 #[derive(Parser)]

@@ -8,7 +8,7 @@ pub mod clock;
 /// The allocator the fusion server runs with: the filter allocates a mean and a covariance
 /// per child component, and glibc's malloc spends a third of an update on that.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: small_alloc::SmallAlloc = small_alloc::SmallAlloc;
 
 use gmphd::{Measurement, MeasurementModel};
 use nalgebra::{DVector, Vector3};
