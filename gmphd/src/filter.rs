@@ -260,7 +260,7 @@ impl GmPhdFilter {
             dt,
             region: self.survival_region.as_ref(),
         };
-        self.intensity = predict_intensity(&self.intensity, &step, births, &mut self.labels)?;
+        predict_intensity(&mut self.intensity, &step, births, &mut self.labels)?;
         self.newborn = first_newborn..self.labels.peek();
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.clear();

@@ -99,17 +99,18 @@ impl SurvivalRegion {
     }
 }
 
-/// Predicts the posterior `posterior` over one step and appends `births`.
+/// Predicts the posterior `intensity` over one step in place and appends `births`; on
+/// error the intensity is as it was.
 ///
 /// Surviving components keep their label (the track they belong to); spawned
 /// children get fresh labels from `labels`. Order of the result: survivors, then
 /// spawned children (by parent), then births — deterministic for a given input.
 pub fn predict_intensity(
-    posterior: &GaussianMixture,
+    intensity: &mut GaussianMixture,
     step: &PredictionStep<'_>,
     births: Vec<Gaussian>,
     labels: &mut LabelSource,
-) -> Result<GaussianMixture, FilterError> {
+) -> Result<(), FilterError> {
     let state_dim = step.motion.state_dim();
     if let Some(bad) = births.iter().find(|g| g.dim() != state_dim) {
         return Err(FilterError::DimensionMismatch {
@@ -118,30 +119,31 @@ pub fn predict_intensity(
             found: bad.dim(),
         });
     }
-    let mut components = Vec::with_capacity(posterior.len() + births.len());
+    // Children are spawned from the components before they move.
+    let spawned: Vec<Gaussian> = match step.spawn {
+        Some(spawn) => intensity
+            .iter()
+            .flat_map(|parent| spawn.spawn(parent, labels))
+            .collect(),
+        None => Vec::new(),
+    };
+    let components = &mut intensity.components;
     if step.survival_probability > 0.0 {
-        for parent in posterior.iter() {
-            let (mean, cov) = step.motion.predict(&parent.mean, &parent.cov, step.dt)?;
-            if let Some(region) = step.region {
-                if !region.contains(step.motion.position(&mean).as_slice()) {
-                    continue;
-                }
-            }
-            components.push(Gaussian::new(
-                step.survival_probability * parent.weight,
-                mean,
-                cov,
-                parent.label,
-            ));
-        }
+        // All or none: the only fallible step comes before the intensity changes.
+        step.motion.predict_all_in_place(components, step.dt)?;
+        components.retain_mut(|component| {
+            component.weight *= step.survival_probability;
+            step.region.is_none_or(|region| {
+                region.contains(step.motion.position(&component.mean).as_slice())
+            })
+        });
+    } else {
+        components.clear();
     }
-    if let Some(spawn) = step.spawn {
-        for parent in posterior.iter() {
-            components.extend(spawn.spawn(parent, labels));
-        }
-    }
+    components.reserve(spawned.len() + births.len());
+    components.extend(spawned);
     components.extend(births);
-    Ok(GaussianMixture::from_components(components))
+    Ok(())
 }
 
 #[cfg(test)]
@@ -169,7 +171,13 @@ mod tests {
             region: None,
         };
         let mut labels = LabelSource::starting_at(11);
-        let predicted = predict_intensity(&posterior, &step, vec![birth], &mut labels).unwrap();
+        let predict = |mut intensity: GaussianMixture,
+                       step: &PredictionStep<'_>,
+                       births: Vec<Gaussian>,
+                       labels: &mut LabelSource| {
+            predict_intensity(&mut intensity, step, births, labels).map(|()| intensity)
+        };
+        let predicted = predict(posterior.clone(), &step, vec![birth], &mut labels).unwrap();
         assert_eq!(predicted.len(), 2);
         assert!((predicted.components[0].weight - 0.45).abs() < 1e-12);
         assert_eq!(predicted.components[0].label, Label(9));
@@ -179,8 +187,8 @@ mod tests {
             region: Some(&region),
             ..step
         };
-        let predicted_in_box = predict_intensity(
-            &posterior,
+        let predicted_in_box = predict(
+            posterior.clone(),
             &bounded,
             vec![predicted.components[1].clone()],
             &mut labels,
@@ -196,7 +204,38 @@ mod tests {
         );
         assert_eq!(predicted.components[1].label, Label(10));
         let wrong = Gaussian::new(0.1, DVector::zeros(2), DMatrix::identity(2, 2), Label(12));
-        assert!(predict_intensity(&posterior, &step, vec![wrong], &mut labels).is_err());
+        assert!(predict(posterior.clone(), &step, vec![wrong], &mut labels).is_err());
         assert!(Survival::PerStep(1.5).validate().is_err());
+    }
+
+    /// A failed prediction leaves the intensity as it was, even when the bad component
+    /// comes after good ones.
+    #[test]
+    fn a_failed_prediction_changes_nothing() {
+        let motion = ConstantVelocity::new(2, 1.0).unwrap();
+        let good = Gaussian::new(
+            0.5,
+            DVector::from_vec(vec![0.0, 0.0, 1.0, 2.0]),
+            DMatrix::identity(4, 4),
+            Label(1),
+        );
+        let wrong_size = Gaussian::new(0.5, DVector::zeros(6), DMatrix::identity(6, 6), Label(2));
+        let mut intensity = GaussianMixture::from_components(vec![good, wrong_size]);
+        let before = intensity.clone();
+        let step = PredictionStep {
+            motion: &motion,
+            survival_probability: 0.9,
+            spawn: None,
+            dt: 0.5,
+            region: None,
+        };
+        let mut labels = LabelSource::starting_at(3);
+        assert!(predict_intensity(&mut intensity, &step, Vec::new(), &mut labels).is_err());
+        assert_eq!(intensity, before);
+        let backwards = PredictionStep { dt: -0.1, ..step };
+        intensity.components.truncate(1);
+        let before = intensity.clone();
+        assert!(predict_intensity(&mut intensity, &backwards, Vec::new(), &mut labels).is_err());
+        assert_eq!(intensity, before);
     }
 }

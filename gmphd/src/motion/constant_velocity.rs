@@ -4,7 +4,7 @@ use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::{check_dt, check_gaussian_dims, check_noise, check_spatial_dims, padded, MotionModel};
 use crate::error::FilterError;
-use crate::linalg::symmetrize_in_place;
+use crate::gaussian::Gaussian;
 
 /// State [p (dims), v (dims)], p' = p + dt v, v' = v, with per-axis process noise
 /// Q(dt) = q · [[dt³/3, dt²/2], [dt²/2, dt]], q = accel_noise_std².
@@ -53,20 +53,73 @@ impl ConstantVelocity {
 
     /// Process noise covariance Q(dt).
     pub fn process_noise(&self, dt: f64) -> DMatrix<f64> {
-        let mut noise = DMatrix::zeros(2 * self.dims, 2 * self.dims);
-        self.add_process_noise(&mut noise, dt);
+        let d = self.dims;
+        let [position, cross, velocity] = self.noise_terms(dt);
+        let mut noise = DMatrix::zeros(2 * d, 2 * d);
+        for i in 0..d {
+            noise[(i, i)] = position;
+            noise[(i, d + i)] = cross;
+            noise[(d + i, i)] = cross;
+            noise[(d + i, d + i)] = velocity;
+        }
         noise
     }
 
-    /// Adds Q(dt) to `cov` in place.
-    fn add_process_noise(&self, cov: &mut DMatrix<f64>, dt: f64) {
-        let d = self.dims;
+    /// Q(dt)'s entries for each axis: position variance, position–velocity covariance,
+    /// velocity variance (white acceleration noise).
+    fn noise_terms(&self, dt: f64) -> [f64; 3] {
         let q = self.accel_noise_std * self.accel_noise_std;
-        for i in 0..d {
-            cov[(i, i)] += q * dt.powi(3) / 3.0;
-            cov[(i, d + i)] += q * dt * dt / 2.0;
-            cov[(d + i, i)] += q * dt * dt / 2.0;
-            cov[(d + i, d + i)] += q * dt;
+        [q * dt.powi(3) / 3.0, q * dt * dt / 2.0, q * dt]
+    }
+
+    /// F x and F P Fᵀ + Q in place, on a state of the right size (mean and column-major
+    /// covariance as slices), with `noise` = [`Self::noise_terms`] of `dt`.
+    fn predict_unchecked(&self, mean: &mut [f64], cov: &mut [f64], dt: f64, noise: [f64; 3]) {
+        // Compiled for each spatial size, so that the loops have known lengths.
+        match self.dims {
+            2 => predict_sized::<2, 4, 16>(mean, cov, dt, noise),
+            3 => predict_sized::<3, 6, 36>(mean, cov, dt, noise),
+            _ => unreachable!("ConstantVelocity::new accepts 2 or 3 spatial dimensions"),
+        }
+    }
+}
+
+/// [`ConstantVelocity::predict_unchecked`] for D spatial dimensions, N = 2D states and
+/// N² covariance entries: F adds dt times each velocity to its position, so F P Fᵀ is P
+/// with dt times the velocity rows added to the position rows, then the same for the
+/// columns; then Q is added and round-off asymmetry averaged away.
+fn predict_sized<const D: usize, const N: usize, const NN: usize>(
+    mean: &mut [f64],
+    cov: &mut [f64],
+    dt: f64,
+    [position, cross, velocity]: [f64; 3],
+) {
+    let mean: &mut [f64; N] = mean.try_into().expect("a state of 2D entries");
+    let cov: &mut [f64; NN] = cov.try_into().expect("an N × N covariance");
+    for i in 0..D {
+        mean[i] += dt * mean[D + i];
+    }
+    for c in 0..N {
+        for i in 0..D {
+            cov[i + c * N] += dt * cov[D + i + c * N];
+        }
+    }
+    for j in 0..D {
+        for r in 0..N {
+            cov[r + j * N] += dt * cov[r + (D + j) * N];
+        }
+    }
+    for i in 0..D {
+        cov[i + i * N] += position;
+        cov[i + (D + i) * N] += cross;
+        cov[D + i + i * N] += cross;
+        cov[D + i + (D + i) * N] += velocity;
+    }
+    for c in 0..N {
+        for r in c + 1..N {
+            let mean = (cov[r + c * N] + cov[c + r * N]) * 0.5;
+            cov[r + c * N] = mean;
+            cov[c + r * N] = mean;
         }
     }
 }
@@ -96,32 +149,38 @@ impl MotionModel for ConstantVelocity {
     ) -> Result<(DVector<f64>, DMatrix<f64>), FilterError> {
         check_dt(dt)?;
         check_gaussian_dims(mean, cov, self.state_dim())?;
-        // F = [I dt·I; 0 I]: F P Fᵀ adds dt × the velocity rows to the position rows, then
-        // dt × the velocity columns to the position columns — written out, so that a
-        // prediction costs one copy of the mean and of the covariance and no products.
-        let d = self.dims;
-        let mut predicted_mean = mean.clone();
-        let mut predicted_cov = cov.clone();
-        for i in 0..d {
-            predicted_mean[i] += dt * mean[d + i];
-            for c in 0..2 * d {
-                predicted_cov[(i, c)] += dt * predicted_cov[(d + i, c)];
-            }
+        let (mut mean, mut cov) = (mean.clone(), cov.clone());
+        let noise = self.noise_terms(dt);
+        self.predict_unchecked(mean.as_mut_slice(), cov.as_mut_slice(), dt, noise);
+        Ok((mean, cov))
+    }
+
+    fn predict_all_in_place(
+        &self,
+        components: &mut [Gaussian],
+        dt: f64,
+    ) -> Result<(), FilterError> {
+        // Every way to fail is checked before the first component changes.
+        check_dt(dt)?;
+        for component in components.iter() {
+            check_gaussian_dims(&component.mean, &component.cov, self.state_dim())?;
         }
-        for j in 0..d {
-            for r in 0..2 * d {
-                predicted_cov[(r, j)] += dt * predicted_cov[(r, d + j)];
-            }
+        let noise = self.noise_terms(dt);
+        for component in components {
+            self.predict_unchecked(
+                component.mean.as_mut_slice(),
+                component.cov.as_mut_slice(),
+                dt,
+                noise,
+            );
         }
-        self.add_process_noise(&mut predicted_cov, dt);
-        symmetrize_in_place(&mut predicted_cov);
-        Ok((predicted_mean, predicted_cov))
+        Ok(())
     }
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gaussian::Label;
 
     #[test]
     fn prediction_composes_over_split_steps() {
@@ -159,5 +218,53 @@ mod tests {
         let x = DVector::from_vec(vec![1.0, 2.0, 3.0, 4.0]);
         assert_eq!(model.position(&x), Vector3::new(1.0, 2.0, 1.7));
         assert_eq!(model.velocity(&x), Some(Vector3::new(3.0, 4.0, 0.0)));
+    }
+
+    /// The in-place prediction is F P Fᵀ + Q (and F x) to round-off, and the same, bit for
+    /// bit, as the trait's default built on `predict`.
+    #[test]
+    fn in_place_prediction_is_the_kalman_prediction() {
+        /// The same model, with the trait's default `predict_all_in_place`.
+        #[derive(Debug)]
+        struct Default(ConstantVelocity);
+        impl MotionModel for Default {
+            fn state_dim(&self) -> usize {
+                self.0.state_dim()
+            }
+            fn position_dims(&self) -> usize {
+                self.0.position_dims()
+            }
+            fn position(&self, x: &DVector<f64>) -> Vector3<f64> {
+                self.0.position(x)
+            }
+            fn velocity(&self, x: &DVector<f64>) -> Option<Vector3<f64>> {
+                self.0.velocity(x)
+            }
+            fn predict(
+                &self,
+                mean: &DVector<f64>,
+                cov: &DMatrix<f64>,
+                dt: f64,
+            ) -> Result<(DVector<f64>, DMatrix<f64>), FilterError> {
+                self.0.predict(mean, cov, dt)
+            }
+        }
+        let model = ConstantVelocity::new(3, 0.7).unwrap();
+        let root = DMatrix::from_fn(6, 6, |r, c| ((r * 7 + c * 3) % 5) as f64 * 0.3 + 0.1);
+        let cov = &root * root.transpose() + DMatrix::identity(6, 6);
+        let mean = DVector::from_fn(6, |i, _| i as f64 - 2.5);
+        let dt = 0.04;
+        let mut in_place = vec![Gaussian::new(0.3, mean.clone(), cov.clone(), Label(4))];
+        model.predict_all_in_place(&mut in_place, dt).unwrap();
+        let mut by_default = vec![Gaussian::new(0.3, mean.clone(), cov.clone(), Label(4))];
+        Default(model.clone())
+            .predict_all_in_place(&mut by_default, dt)
+            .unwrap();
+        assert_eq!(in_place, by_default);
+        let f = model.transition(dt);
+        let expected_cov = &f * &cov * f.transpose() + model.process_noise(dt);
+        assert!((&f * &mean - &in_place[0].mean).amax() < 1e-12);
+        assert!((expected_cov - &in_place[0].cov).amax() < 1e-12);
+        assert_eq!((in_place[0].weight, in_place[0].label), (0.3, Label(4)));
     }
 }

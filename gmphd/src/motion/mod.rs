@@ -17,6 +17,7 @@ use std::fmt::Debug;
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use crate::error::{invalid, FilterError};
+use crate::gaussian::Gaussian;
 
 /// A single-object Markov motion model with Gaussian process noise.
 pub trait MotionModel: Send + Sync + Debug {
@@ -42,6 +43,28 @@ pub trait MotionModel: Send + Sync + Debug {
         cov: &DMatrix<f64>,
         dt: f64,
     ) -> Result<(DVector<f64>, DMatrix<f64>), FilterError>;
+
+    /// Predicts every one of `components` over `dt` seconds in place (weights and labels
+    /// untouched), all or none: on error every component is as it was.
+    ///
+    /// The default predicts them all with [`MotionModel::predict`] before writing any; a
+    /// model whose only failures are a bad `dt` or a wrong size can check those first and
+    /// then predict without allocating (as [`ConstantVelocity`] does).
+    fn predict_all_in_place(
+        &self,
+        components: &mut [Gaussian],
+        dt: f64,
+    ) -> Result<(), FilterError> {
+        let predicted = components
+            .iter()
+            .map(|c| self.predict(&c.mean, &c.cov, dt))
+            .collect::<Result<Vec<_>, _>>()?;
+        for (component, (mean, cov)) in components.iter_mut().zip(predicted) {
+            component.mean = mean;
+            component.cov = cov;
+        }
+        Ok(())
+    }
 }
 
 /// Rejects a negative or non-finite time step.
