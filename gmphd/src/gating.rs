@@ -34,6 +34,8 @@
 //! Both are on by default in [`GmPhdFilter`](crate::GmPhdFilter); [`Gating::OFF`] gives the
 //! exact update (every pair of non-zero weight is emitted).
 
+use std::cell::RefCell;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid, FilterError};
@@ -139,7 +141,32 @@ fn chi_square_cdf_and_pdf(x: f64, dof: usize) -> (f64, f64) {
 /// Newton's method on the distribution function from the Wilson–Hilferty approximation,
 /// kept inside a bracket that bisection shrinks whenever a Newton step would leave it;
 /// accurate to about 1e-12 relative.
+///
+/// Each thread remembers the last few quantiles it computed: every update asks for its
+/// gate's, and the iteration costs about as much as a small update's scoring of a pair
+/// per measurement.
 pub fn chi_square_quantile(p: f64, dof: usize) -> f64 {
+    /// Quantiles kept per thread (a filter asks for one per sensor size and one more).
+    const REMEMBERED: usize = 8;
+    thread_local! {
+        static RECENT: RefCell<Vec<(u64, usize, f64)>> = const { RefCell::new(Vec::new()) };
+    }
+    let key = (p.to_bits(), dof);
+    RECENT.with_borrow_mut(|recent| {
+        if let Some(&(_, _, x)) = recent.iter().find(|(bits, k, _)| (*bits, *k) == key) {
+            return x;
+        }
+        let x = compute_chi_square_quantile(p, dof);
+        if recent.len() == REMEMBERED {
+            recent.remove(0);
+        }
+        recent.push((key.0, key.1, x));
+        x
+    })
+}
+
+/// [`chi_square_quantile`], computed.
+fn compute_chi_square_quantile(p: f64, dof: usize) -> f64 {
     let k = dof as f64;
     // Wilson–Hilferty: (X/k)^(1/3) is nearly normal with mean 1 − 2/(9k), variance 2/(9k);
     // the normal quantile from a rough inverse of its tail (enough for a starting point).
@@ -178,6 +205,20 @@ pub fn chi_square_quantile(p: f64, dof: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Remembered quantiles are the computed ones, also after more distinct ones than the
+    /// memory holds have pushed them out.
+    #[test]
+    fn remembered_quantiles_are_the_computed_ones() {
+        for round in 0..3 {
+            for dof in 1..=12 {
+                let p = 0.9 + 0.001 * (dof + round) as f64;
+                let expected = compute_chi_square_quantile(p, dof);
+                assert_eq!(chi_square_quantile(p, dof).to_bits(), expected.to_bits());
+                assert_eq!(chi_square_quantile(p, dof).to_bits(), expected.to_bits());
+            }
+        }
+    }
 
     #[test]
     fn quantiles_match_tables_and_closed_forms() {
