@@ -31,7 +31,7 @@ where
     let weight: f64 = members.clone().map(|g| g.weight).sum();
     let mut mean = OVector::<f64, D>::zeros_generic(dim, U1);
     for g in members.clone() {
-        for (m, x) in mean.iter_mut().zip(&g.mean.as_slice()[..n]) {
+        for (m, x) in mean.as_mut_slice().iter_mut().zip(&g.mean.as_slice()[..n]) {
             *m += g.weight * x;
         }
     }
@@ -39,7 +39,12 @@ where
     let mut cov = OMatrix::<f64, D, D>::zeros_generic(dim, dim);
     let mut d = OVector::<f64, D>::zeros_generic(dim, U1);
     for g in members {
-        for ((d, x), m) in d.iter_mut().zip(&g.mean.as_slice()[..n]).zip(mean.iter()) {
+        for ((d, x), m) in d
+            .as_mut_slice()
+            .iter_mut()
+            .zip(&g.mean.as_slice()[..n])
+            .zip(mean.as_slice())
+        {
             *d = x - m;
         }
         let w = g.weight;
@@ -55,7 +60,7 @@ where
                 *c += w * p;
             }
             let scaled = w * d[j];
-            for (c, x) in column.iter_mut().zip(d.iter()) {
+            for (c, x) in column.iter_mut().zip(d.as_slice()) {
                 *c += scaled * x;
             }
         }

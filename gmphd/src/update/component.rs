@@ -168,7 +168,7 @@ where
     pub(super) fn outside_box(&self, residual: &[f64]) -> bool {
         residual
             .iter()
-            .zip(self.half_width.iter())
+            .zip(self.half_width.as_slice())
             .any(|(r, h)| r.abs() > *h)
     }
 

@@ -41,7 +41,7 @@ where
         let mut gain = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
         let mut row = OVector::<f64, D::M>::zeros_generic(m_dim, U1);
         for i in 0..n {
-            for (k, x) in row.iter_mut().enumerate() {
+            for (k, x) in row.as_mut_slice().iter_mut().enumerate() {
                 *x = cross[i + k * n];
             }
             innovation.solve_in_place(row.as_mut_slice());

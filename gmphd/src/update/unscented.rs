@@ -93,10 +93,12 @@ where
             continue;
         }
         let root_column = &root[column * n..(column + 1) * n];
+        // Slices, not nalgebra's iterators: those step through a general strided layout.
         for ((x, mean), l) in scratch
             .point
+            .as_mut_slice()
             .iter_mut()
-            .zip(&component.mean)
+            .zip(component.mean.as_slice())
             .zip(root_column)
         {
             *x = mean + sign * l;
@@ -127,13 +129,13 @@ where
             &outputs[..m],
             &mut scratch.residual,
         );
-        for (y, r) in mean.iter_mut().zip(&scratch.residual) {
+        for (y, r) in mean.as_mut_slice().iter_mut().zip(&scratch.residual) {
             *y += weights.outer * r;
         }
     }
     if centred > 0 {
         let centre_weight = centred as f64 * weights.outer;
-        for (y, r) in mean.iter_mut().zip(&scratch.centre_residual) {
+        for (y, r) in mean.as_mut_slice().iter_mut().zip(&scratch.centre_residual) {
             *y += centre_weight * r;
         }
     }
