@@ -67,19 +67,39 @@ impl PruneMergeCap {
         // Vo & Ma measure the distance with the candidate's own covariance P_i.
         let mut gates = vec![MahalanobisGate::default(); kept.len()];
         // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
-        // candidate's reach. So a pivot need only look at the candidates whose reach along
-        // the first coordinate covers it: stabbed into every component's first coordinate
-        // at once ([`sweep`]), listed in ascending (weight) order.
+        // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
+        // at those within the largest reach of them; the few widest components (beyond the
+        // 90th percentile of reach) would make that window wide, so they are kept aside and
+        // tested against every pivot. Merged components leave the sorted list (see
+        // `Unmerged`), so a pivot's window holds only components still to be clustered —
+        // all of them later than the pivot, as every earlier one has been a pivot or a member.
         let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
-        let queries: Vec<Option<f64>> = kept
+        let reach: Vec<f64> = kept
             .iter()
-            .map(|g| Some(first(g)).filter(|x| x.is_finite()))
+            .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
             .collect();
-        let reach = kept.iter().map(|g| {
-            let variance = g.cov.get((0, 0)).copied().unwrap_or(f64::NAN);
-            (first(g), (self.merge_threshold * variance).sqrt())
-        });
-        let reaching = sweep::IntervalHits::build(&queries, reach);
+        let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
+        let window = if finite_reach.is_empty() {
+            0.0
+        } else {
+            let at = finite_reach.len() * 9 / 10;
+            *finite_reach.select_nth_unstable_by(at, f64::total_cmp).1
+        };
+        let (mut sorted, mut wide) = (Vec::new(), Vec::new());
+        for (i, g) in kept.iter().enumerate() {
+            if first(g).is_finite() && reach[i] <= window {
+                sorted.push((first(g), i));
+            } else {
+                wide.push(i);
+            }
+        }
+        // Distinct pairs: the unstable sort orders them as a stable one would.
+        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut position = vec![usize::MAX; kept.len()];
+        for (k, &(_, i)) in sorted.iter().enumerate() {
+            position[i] = k;
+        }
+        let mut in_sorted = Unmerged::new(sorted.len());
 
         // Visited by weight: each component not yet merged is a pivot that takes every
         // later unmerged one within U.
@@ -96,15 +116,29 @@ impl PruneMergeCap {
             members.clear();
             members.push(pivot);
             candidates.clear();
-            match queries[pivot] {
-                Some(_) => {
-                    // The probe's test first: it rejects most.
+            if let Some(k) = position.get(pivot).filter(|k| **k != usize::MAX) {
+                in_sorted.remove(*k);
+            }
+            match sweep::run(&sorted, first(kept[pivot]), window) {
+                Some((start, end)) => {
+                    // The probe's test first: it rejects most, and fewer are left to sort.
                     let pivot_probe = &probes[pivot];
+                    let mut k = in_sorted.first_from(start);
+                    while k < end {
+                        let i = sorted[k].1;
+                        if !probes[i].outside(pivot_probe) {
+                            candidates.push(i);
+                        }
+                        k = in_sorted.first_from(k + 1);
+                    }
+                    wide.retain(|&i| unmerged[i]);
                     candidates.extend(
-                        reaching.hits(pivot).iter().copied().filter(|&i| {
-                            i > pivot && unmerged[i] && !probes[i].outside(pivot_probe)
-                        }),
+                        wide.iter()
+                            .copied()
+                            .filter(|&i| i > pivot && !probes[i].outside(pivot_probe)),
                     );
+                    // Tested (and merged) in weight order, as a full scan would.
+                    candidates.sort_unstable();
                 }
                 // A centre off the index (not finite): every later component.
                 None => candidates.extend(pivot + 1..kept.len()),
@@ -136,9 +170,46 @@ impl PruneMergeCap {
             }
             for &i in &members {
                 unmerged[i] = false;
+                if position[i] != usize::MAX {
+                    in_sorted.remove(position[i]);
+                }
             }
             clusters.push(members.iter().map(|&i| order[i].0 .2).collect());
         }
         clusters
+    }
+}
+
+/// The positions of a list still in it, as they are removed: skipping removed runs costs
+/// amortised almost nothing (each position points past its removed successors, and the
+/// pointers are shortened as they are followed).
+struct Unmerged {
+    /// `next[k] == k` while position k is in; otherwise a position after it to look from.
+    /// `next[len]` is the end.
+    next: Vec<usize>,
+}
+
+impl Unmerged {
+    /// All of `len` positions in.
+    fn new(len: usize) -> Self {
+        Self {
+            next: (0..=len).collect(),
+        }
+    }
+
+    /// Takes position `k` out.
+    fn remove(&mut self, k: usize) {
+        self.next[k] = k + 1;
+    }
+
+    /// The first position at or after `k` still in (the length when none is).
+    fn first_from(&mut self, mut k: usize) -> usize {
+        while self.next[k] != k {
+            // Path halving: point each visited position two steps on.
+            let after = self.next[self.next[k]];
+            self.next[k] = after;
+            k = after;
+        }
+        k
     }
 }
