@@ -333,7 +333,8 @@ impl TrackManager {
             .is_some_and(|at| time_s - at < config.max_coast_s);
         let mut events = TrackEvents::default();
 
-        for (&label, summary) in &summaries {
+        for (label, summary) in &summaries {
+            let label = *label;
             if summary.weight > config.confirm_threshold
                 && !self.tracks.contains_key(&label)
                 && in_view(summary.mean)
@@ -343,7 +344,10 @@ impl TrackManager {
             }
         }
         for (&label, state) in &mut self.tracks {
-            let summary = summaries.get(&label);
+            let summary = summaries
+                .binary_search_by_key(&label, |(l, _)| *l)
+                .ok()
+                .map(|i| &summaries[i].1);
             let weight = summary.map_or(0.0, |s| s.weight);
             if let Some(summary) = summary {
                 state.track.mean.clone_from(summary.mean);
@@ -458,28 +462,46 @@ fn new_state(label: Label, time_s: f64, summary: &LabelSummary<'_>) -> TrackStat
     }
 }
 
-/// Total weight and heaviest component per label.
-fn summarise(intensity: &GaussianMixture) -> Result<BTreeMap<Label, LabelSummary<'_>>, TrackError> {
-    let mut summaries: BTreeMap<Label, LabelSummary<'_>> = BTreeMap::new();
-    for component in intensity.iter() {
-        if !component.weight.is_finite() || component.weight < 0.0 {
-            return Err(TrackError::InvalidWeight {
-                label: component.label.0,
-                weight: component.weight,
-            });
-        }
-        let summary = summaries.entry(component.label).or_insert(LabelSummary {
-            weight: 0.0,
-            heaviest_weight: f64::NEG_INFINITY,
-            mean: &component.mean,
-            cov: &component.cov,
+/// Total weight and heaviest component per label, ascending by label (one sort of the
+/// components instead of a map; each label's weights are added in component order).
+fn summarise(intensity: &GaussianMixture) -> Result<Vec<(Label, LabelSummary<'_>)>, TrackError> {
+    if let Some(bad) = intensity
+        .iter()
+        .find(|c| !c.weight.is_finite() || c.weight < 0.0)
+    {
+        return Err(TrackError::InvalidWeight {
+            label: bad.label.0,
+            weight: bad.weight,
         });
-        summary.weight += component.weight;
-        if component.weight > summary.heaviest_weight {
-            summary.heaviest_weight = component.weight;
-            summary.mean = &component.mean;
-            summary.cov = &component.cov;
-        }
     }
+    let mut by_label: Vec<(Label, usize)> = intensity
+        .iter()
+        .enumerate()
+        .map(|(index, c)| (c.label, index))
+        .collect();
+    // Distinct pairs: the unstable sort orders them as a stable one would.
+    by_label.sort_unstable();
+    let summaries = by_label
+        .chunk_by(|a, b| a.0 == b.0)
+        .map(|group| {
+            let first = &intensity.components[group[0].1];
+            let mut summary = LabelSummary {
+                weight: 0.0,
+                heaviest_weight: f64::NEG_INFINITY,
+                mean: &first.mean,
+                cov: &first.cov,
+            };
+            for &(_, index) in group {
+                let component = &intensity.components[index];
+                summary.weight += component.weight;
+                if component.weight > summary.heaviest_weight {
+                    summary.heaviest_weight = component.weight;
+                    summary.mean = &component.mean;
+                    summary.cov = &component.cov;
+                }
+            }
+            (group[0].0, summary)
+        })
+        .collect();
     Ok(summaries)
 }

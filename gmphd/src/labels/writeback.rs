@@ -121,13 +121,16 @@ pub fn apply_relabelling(
         });
     }
 
-    let mut labels_by_source: BTreeMap<usize, Vec<Label>> = BTreeMap::new();
+    // (source component, new label) in source order, each source's labels in estimate
+    // order: walked alongside the mixture instead of looked up per component.
+    let mut labels_by_source: Vec<(usize, Label)> = estimates
+        .iter()
+        .map(|e| e.source)
+        .zip(relabelling.labels.iter().copied())
+        .collect();
+    labels_by_source.sort_by_key(|&(source, _)| source);
     let mut group_rename: BTreeMap<Label, (f64, Label)> = BTreeMap::new();
     for (estimate, &new_label) in estimates.iter().zip(&relabelling.labels) {
-        labels_by_source
-            .entry(estimate.source)
-            .or_default()
-            .push(new_label);
         if !estimate.is_extra_copy() {
             let entry = group_rename
                 .entry(estimate.label)
@@ -141,10 +144,17 @@ pub fn apply_relabelling(
 
     let old = std::mem::take(&mut mixture.components);
     let mut fresh_for: BTreeMap<Label, Label> = BTreeMap::new();
+    let mut sources = labels_by_source.as_slice();
     for (index, component) in old.into_iter().enumerate() {
-        if let Some(new_labels) = labels_by_source.get(&index) {
-            let share = component.weight / new_labels.len() as f64;
-            for &label in new_labels {
+        let count = sources
+            .iter()
+            .take_while(|(source, _)| *source == index)
+            .count();
+        if count > 0 {
+            let (new_labels, rest) = sources.split_at(count);
+            sources = rest;
+            let share = component.weight / count as f64;
+            for &(_, label) in new_labels {
                 mixture.components.push(Gaussian {
                     weight: share,
                     label,
