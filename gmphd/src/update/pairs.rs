@@ -1,7 +1,7 @@
 //! The pairs of one measurement with the prepared components: gating, log-space weights
 //! and the normaliser, without allocating per pair (buffers live in a [`Scratch`]).
 
-use nalgebra::{DMatrix, DefaultAllocator};
+use nalgebra::{DMatrix, DefaultAllocator, Dim};
 
 use super::component::Detectable;
 use super::correction::Correction;
@@ -92,7 +92,14 @@ where
             scratch,
         );
     }
-    weigh(measurement.z.len(), rules, scratch)
+    weigh(measurement_size::<D>(measurement), rules, scratch)
+}
+
+/// The size of `measurement` (validated to be the sensor's): on the fixed sizes the
+/// update's constant, so that the loops over a residual are unrolled and its copies
+/// inlined.
+fn measurement_size<D: Dims>(measurement: &Measurement) -> usize {
+    D::M::try_to_usize().unwrap_or(measurement.z.len())
 }
 
 /// Fills `scratch.candidates` (and their residuals) with the pairs of `measurement`
@@ -107,36 +114,36 @@ fn gate_candidates<D: Dims>(
 ) where
     DefaultAllocator: Storage<D>,
 {
-    let dim = measurement.z.len();
-    scratch.residual.resize(dim, 0.0);
-    scratch.whitened.resize(dim, 0.0);
     scratch.candidates.clear();
     scratch.candidate_residuals.clear();
+    let dim = measurement_size::<D>(measurement);
+    scratch.residual.resize(dim, 0.0);
+    scratch.whitened.resize(dim, 0.0);
+    let (residual, whitened) = (&mut scratch.residual[..dim], &mut scratch.whitened[..dim]);
     let z = measurement.z.as_slice();
     for k in indices {
         let d = &detectable[k];
-        sensor.residual_into(z, d.predicted_z(), &mut scratch.residual);
+        sensor.residual_into(z, d.predicted_z(), residual);
         let log_q = match &measurement.cov {
             None => {
-                if gate < f64::INFINITY && d.innovation.outside_box(&scratch.residual) {
+                if gate < f64::INFINITY && d.innovation.outside_box(residual) {
                     continue;
                 }
                 d.innovation
-                    .distance_sq(&scratch.residual, &mut scratch.whitened, gate)
+                    .distance_sq(residual, whitened, gate)
                     .map(|distance| d.innovation.log_density(distance))
             }
-            Some(noise) => own_noise_log_density(d, noise, gate, scratch),
+            Some(noise) => own_noise_log_density(d, noise, gate, residual, whitened),
         };
         if let Some(log_q) = log_q {
             scratch.candidates.push((k, d.log_prior + log_q));
-            scratch
-                .candidate_residuals
-                .extend_from_slice(&scratch.residual);
+            scratch.candidate_residuals.extend_from_slice(residual);
         }
     }
 }
 
 /// The normaliser, U(z) and the kept pairs from the candidates in `scratch`.
+#[inline]
 fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &mut Scratch) -> MeasurementPairs {
     let max = scratch
         .candidates
@@ -179,17 +186,18 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &mut Scratch) -> Measuremen
 }
 
 /// log q(z) of a pair whose measurement carries its own noise `noise`, or `None` outside
-/// the gate; the residual is in `scratch.residual`.
+/// the gate, for the residual `residual` (`whitened` is scratch of its size).
 fn own_noise_log_density<D: Dims>(
     d: &Detectable<'_, D>,
     noise: &DMatrix<f64>,
     gate: f64,
-    scratch: &mut Scratch,
+    residual: &[f64],
+    whitened: &mut [f64],
 ) -> Option<f64>
 where
     DefaultAllocator: Storage<D>,
 {
-    let outside = scratch.residual.iter().enumerate().any(|(i, r)| {
+    let outside = residual.iter().enumerate().any(|(i, r)| {
         let variance = d.z_cov(i, i) + noise[(i, i)];
         r.abs() > (gate * variance).sqrt()
     });
@@ -198,7 +206,7 @@ where
     }
     let innovation = d.innovation_with(noise, gate);
     innovation
-        .distance_sq(&scratch.residual, &mut scratch.whitened, gate)
+        .distance_sq(residual, whitened, gate)
         .map(|distance| innovation.log_density(distance))
 }
 
