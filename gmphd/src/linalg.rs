@@ -2,8 +2,9 @@
 
 use std::f64::consts::{PI, TAU};
 
+use nalgebra::allocator::Allocator;
 use nalgebra::storage::StorageMut;
-use nalgebra::{Cholesky, DMatrix, DVector, Dim, Dyn, Matrix};
+use nalgebra::{Cholesky, DMatrix, DVector, DefaultAllocator, Dim, Dyn, Matrix, OMatrix};
 
 use crate::error::FilterError;
 
@@ -48,6 +49,21 @@ pub fn symmetrize_in_place<R: Dim, C: Dim, S: StorageMut<f64, R, C>>(
             matrix[(r, c)] = mean;
             matrix[(c, r)] = mean;
         }
+    }
+}
+
+/// Makes `target` a copy of `source`, reusing `target`'s buffer when the shapes agree
+/// (nalgebra's `clone_from` is the derived one, which allocates a new buffer every time).
+pub(crate) fn copy_into<R: Dim, C: Dim>(
+    target: &mut OMatrix<f64, R, C>,
+    source: &OMatrix<f64, R, C>,
+) where
+    DefaultAllocator: Allocator<R, C>,
+{
+    if target.shape() == source.shape() {
+        target.copy_from(source);
+    } else {
+        *target = source.clone();
     }
 }
 

@@ -33,6 +33,7 @@
 //! clutter return's child. All state is serde serialisable so a server can checkpoint it.
 
 use crate::gaussian::{GaussianMixture, Label};
+use crate::linalg::copy_into;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, VecDeque};
@@ -350,8 +351,8 @@ impl TrackManager {
                 .map(|i| &summaries[i].1);
             let weight = summary.map_or(0.0, |s| s.weight);
             if let Some(summary) = summary {
-                state.track.mean.clone_from(summary.mean);
-                state.track.cov.clone_from(summary.cov);
+                copy_into(&mut state.track.mean, summary.mean);
+                copy_into(&mut state.track.cov, summary.cov);
                 if summary.weight >= config.delete_threshold {
                     set_anchor(&mut state.anchor, time_s, summary);
                 }

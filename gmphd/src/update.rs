@@ -33,7 +33,7 @@ mod dims;
 mod pairs;
 mod unscented;
 
-use nalgebra::{DefaultAllocator, OMatrix, OVector};
+use nalgebra::{DVector, DefaultAllocator, OMatrix, OVector};
 use rayon::prelude::*;
 
 use crate::error::FilterError;
@@ -192,8 +192,9 @@ pub(crate) fn update_parts(
     }
     let mut missed = Vec::with_capacity(predicted.len());
     let mut seen = Vec::with_capacity(predicted.len());
+    let mut point = DVector::zeros(0);
     for (index, component) in predicted.iter().enumerate().filter(|(_, c)| c.weight > 0.0) {
-        let p_d = detection::detection_probability(component, step);
+        let p_d = detection::detection_probability(component, step, &mut point);
         let missed_weight = (1.0 - p_d) * component.weight;
         if missed_weight > 0.0 {
             missed.push((index, missed_weight));

@@ -97,10 +97,11 @@ impl MeasurementModel for Lidar {
     }
 
     fn detection_probability(&self, p: &Vector3<f64>) -> f64 {
-        let mut z = [0.0; 3];
-        self.measure_into(p, &mut z);
+        // Range and elevation as `measure_into` computes them (the azimuth does not matter).
+        let s = self.to_sensor_frame(p);
+        let (range, elevation) = (s.norm(), s.z.atan2(s.x.hypot(s.y)));
         let [el_min, el_max] = self.elevation_limits;
-        if z[0] <= self.max_range && z[2] >= el_min && z[2] <= el_max {
+        if range <= self.max_range && elevation >= el_min && elevation <= el_max {
             self.detection.probability
         } else {
             0.0

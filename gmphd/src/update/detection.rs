@@ -14,16 +14,24 @@
 //! that is positive when the component reaches into the view. Components seen at their
 //! mean are unchanged.
 
+use nalgebra::DVector;
+
 use super::UpdateStep;
 use crate::gaussian::Gaussian;
-use crate::linalg::lower_cholesky;
+use crate::linalg::{copy_into, lower_cholesky};
 
 /// Largest number of position coordinates (motion models have 2 or 3).
 const MAX_POSITION_DIMS: usize = 3;
 
-/// p_D for `component` (see the module documentation), in [0, 1].
-pub(super) fn detection_probability(component: &Gaussian, step: &UpdateStep<'_>) -> f64 {
-    let at = |state: &nalgebra::DVector<f64>| {
+/// p_D for `component` (see the module documentation), in [0, 1]; `point` is scratch
+/// for the spread's points (resized as needed, so that a loop over components allocates
+/// it once).
+pub(super) fn detection_probability(
+    component: &Gaussian,
+    step: &UpdateStep<'_>,
+    point: &mut DVector<f64>,
+) -> f64 {
+    let at = |state: &DVector<f64>| {
         let position = step.motion.position(state);
         step.sensor.detection_probability(&position).clamp(0.0, 1.0)
     };
@@ -40,14 +48,14 @@ pub(super) fn detection_probability(component: &Gaussian, step: &UpdateStep<'_>)
         return 0.0;
     }
     let scale = (d as f64).sqrt();
-    let mut point = component.mean.clone();
+    copy_into(point, &component.mean);
     let mut sum = 0.0;
     for column in 0..d {
         for sign in [scale, -scale] {
             for row in 0..d {
                 point[row] = component.mean[row] + sign * root[row + column * d];
             }
-            sum += at(&point);
+            sum += at(point);
         }
     }
     sum / (2 * d + 1) as f64
@@ -78,19 +86,29 @@ mod tests {
             sensor: &sensor,
             unscented: &unscented,
         };
+        let mut point = DVector::zeros(0);
         let component = |z: f64, std: f64| {
             let mean = DVector::from_vec(vec![1.5, 1.0, z, 0.0, 0.0, 0.0]);
             let cov = DMatrix::from_diagonal_element(6, 6, std * std);
             Gaussian::new(1.0, mean, cov, Label(1))
         };
         // Inside: p_D itself.
-        assert_eq!(detection_probability(&component(1.7, 0.5), &step), 0.9);
+        assert_eq!(
+            detection_probability(&component(1.7, 0.5), &step, &mut point),
+            0.9
+        );
         // Just above the view with a wide spread: one of the 7 points of the position's
         // marginal (mean − √3·σ in z) inside; the velocity's spread does not matter.
-        let reaching = detection_probability(&component(2.05, 0.5), &step);
+        let reaching = detection_probability(&component(2.05, 0.5), &step, &mut point);
         assert!((reaching - 0.9 / 7.0).abs() < 1e-12, "{reaching}");
         // Tight and outside, or far outside: not detectable.
-        assert_eq!(detection_probability(&component(2.05, 0.01), &step), 0.0);
-        assert_eq!(detection_probability(&component(9.0, 0.5), &step), 0.0);
+        assert_eq!(
+            detection_probability(&component(2.05, 0.01), &step, &mut point),
+            0.0
+        );
+        assert_eq!(
+            detection_probability(&component(9.0, 0.5), &step, &mut point),
+            0.0
+        );
     }
 }

@@ -11,7 +11,7 @@ use super::dims::{Dims, Storage};
 use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
-use crate::linalg::{lower_cholesky_columns, robust_cholesky};
+use crate::linalg::{copy_into, lower_cholesky_columns, robust_cholesky};
 
 /// Reusable buffers of the transform.
 #[derive(Default)]
@@ -78,7 +78,7 @@ where
     scratch.centre_residual.resize(m, 0.0);
     scratch.at_centre.clear();
     scratch.at_centre.resize(points, true);
-    scratch.point.clone_from(&component.mean);
+    copy_into(&mut scratch.point, &component.mean);
     // Point 0 is the mean, point 1 + i is mean + column i, point 1 + n + i mean − column i.
     let centre = step.motion.position(&component.mean);
     let (first, rest) = scratch.outputs.split_at_mut(m);
