@@ -330,8 +330,9 @@ pub fn associate_labels(
 
 /// |a − b| without allocating (the vectors have one dimension, checked by the caller).
 fn euclidean(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
-    a.iter()
-        .zip(b.iter())
+    a.as_slice()
+        .iter()
+        .zip(b.as_slice())
         .map(|(x, y)| (x - y) * (x - y))
         .sum::<f64>()
         .sqrt()
