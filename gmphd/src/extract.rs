@@ -145,10 +145,7 @@ impl WeightThresholdExtractor {
 
 impl StateExtractor for WeightThresholdExtractor {
     fn extract(&self, intensity: &GaussianMixture) -> Result<Vec<Estimate>, ExtractError> {
-        if let Some(bad) = intensity
-            .iter()
-            .find(|c| !c.weight.is_finite() || c.weight < 0.0)
-        {
+        if let Some(bad) = intensity.first_invalid_weight() {
             return Err(ExtractError::InvalidWeight {
                 label: bad.label.0,
                 weight: bad.weight,
@@ -176,15 +173,8 @@ impl StateExtractor for WeightThresholdExtractor {
                 }
             }
             Grouping::ByLabel => {
-                // Each label's components in input order: one sort of distinct (label,
-                // index) pairs rather than a map of per-label lists.
                 let weight = |i: usize| intensity.components[i].weight;
-                let mut by_label: Vec<(Label, usize)> = intensity
-                    .iter()
-                    .enumerate()
-                    .map(|(index, component)| (component.label, index))
-                    .collect();
-                by_label.sort_unstable();
+                let by_label = intensity.indices_by_label();
                 for group in by_label.chunk_by(|a, b| a.0 == b.0) {
                     let label = group[0].0;
                     let mass: f64 = group.iter().map(|&(_, i)| weight(i)).sum();

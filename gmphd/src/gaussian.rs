@@ -109,4 +109,24 @@ impl GaussianMixture {
     pub fn iter(&self) -> std::slice::Iter<'_, Gaussian> {
         self.components.iter()
     }
+
+    /// The first component whose weight is not a finite number ≥ 0, if any.
+    pub fn first_invalid_weight(&self) -> Option<&Gaussian> {
+        self.iter()
+            .find(|c| !c.weight.is_finite() || c.weight < 0.0)
+    }
+
+    /// (label, index) of every component, ascending: each label's components form one run
+    /// (group them with `chunk_by`), in input order. One sort rather than a map of
+    /// per-label lists.
+    pub fn indices_by_label(&self) -> Vec<(Label, usize)> {
+        let mut by_label: Vec<(Label, usize)> = self
+            .iter()
+            .enumerate()
+            .map(|(index, component)| (component.label, index))
+            .collect();
+        // Distinct pairs: the unstable sort orders them as a stable one would.
+        by_label.sort_unstable();
+        by_label
+    }
 }

@@ -466,23 +466,14 @@ fn new_state(label: Label, time_s: f64, summary: &LabelSummary<'_>) -> TrackStat
 /// Total weight and heaviest component per label, ascending by label (one sort of the
 /// components instead of a map; each label's weights are added in component order).
 fn summarise(intensity: &GaussianMixture) -> Result<Vec<(Label, LabelSummary<'_>)>, TrackError> {
-    if let Some(bad) = intensity
-        .iter()
-        .find(|c| !c.weight.is_finite() || c.weight < 0.0)
-    {
+    if let Some(bad) = intensity.first_invalid_weight() {
         return Err(TrackError::InvalidWeight {
             label: bad.label.0,
             weight: bad.weight,
         });
     }
-    let mut by_label: Vec<(Label, usize)> = intensity
-        .iter()
-        .enumerate()
-        .map(|(index, c)| (c.label, index))
-        .collect();
-    // Distinct pairs: the unstable sort orders them as a stable one would.
-    by_label.sort_unstable();
-    let summaries = by_label
+    let summaries = intensity
+        .indices_by_label()
         .chunk_by(|a, b| a.0 == b.0)
         .map(|group| {
             let first = &intensity.components[group[0].1];
