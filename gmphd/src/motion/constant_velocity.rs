@@ -1,10 +1,11 @@
 //! Nearly constant velocity with continuous white-noise acceleration.
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{Const, DMatrix, DVector, MatrixViewMut, Vector3};
 
 use super::{check_dt, check_gaussian_dims, check_noise, check_spatial_dims, padded, MotionModel};
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
+use crate::linalg::symmetrize_in_place;
 
 /// State [p (dims), v (dims)], p' = p + dt v, v' = v, with per-axis process noise
 /// Q(dt) = q · [[dt³/3, dt²/2], [dt²/2, dt]], q = accel_noise_std².
@@ -53,15 +54,8 @@ impl ConstantVelocity {
 
     /// Process noise covariance Q(dt).
     pub fn process_noise(&self, dt: f64) -> DMatrix<f64> {
-        let d = self.dims;
-        let [position, cross, velocity] = self.noise_terms(dt);
-        let mut noise = DMatrix::zeros(2 * d, 2 * d);
-        for i in 0..d {
-            noise[(i, i)] = position;
-            noise[(i, d + i)] = cross;
-            noise[(d + i, i)] = cross;
-            noise[(d + i, d + i)] = velocity;
-        }
+        let mut noise = DMatrix::zeros(2 * self.dims, 2 * self.dims);
+        add_process_noise(noise.as_mut_slice(), self.dims, self.noise_terms(dt));
         noise
     }
 
@@ -92,7 +86,7 @@ fn predict_sized<const D: usize, const N: usize, const NN: usize>(
     mean: &mut [f64],
     cov: &mut [f64],
     dt: f64,
-    [position, cross, velocity]: [f64; 3],
+    noise: [f64; 3],
 ) {
     let mean: &mut [f64; N] = mean.try_into().expect("a state of 2D entries");
     let cov: &mut [f64; NN] = cov.try_into().expect("an N × N covariance");
@@ -109,18 +103,22 @@ fn predict_sized<const D: usize, const N: usize, const NN: usize>(
             cov[r + j * N] += dt * cov[r + (D + j) * N];
         }
     }
-    for i in 0..D {
-        cov[i + i * N] += position;
-        cov[i + (D + i) * N] += cross;
-        cov[D + i + i * N] += cross;
-        cov[D + i + (D + i) * N] += velocity;
-    }
-    for c in 0..N {
-        for r in c + 1..N {
-            let mean = (cov[r + c * N] + cov[c + r * N]) * 0.5;
-            cov[r + c * N] = mean;
-            cov[c + r * N] = mean;
-        }
+    add_process_noise(cov, D, noise);
+    symmetrize_in_place(&mut MatrixViewMut::<f64, Const<N>, Const<N>>::from_slice(
+        cov,
+    ));
+}
+
+/// Adds Q's per-axis `[position, cross, velocity]` entries to the column-major covariance
+/// `cov` of a state with `d` positions and `d` velocities.
+#[inline]
+fn add_process_noise(cov: &mut [f64], d: usize, [position, cross, velocity]: [f64; 3]) {
+    let n = 2 * d;
+    for i in 0..d {
+        cov[i + i * n] += position;
+        cov[i + (d + i) * n] += cross;
+        cov[d + i + i * n] += cross;
+        cov[d + i + (d + i) * n] += velocity;
     }
 }
 
@@ -177,6 +175,7 @@ impl MotionModel for ConstantVelocity {
         Ok(())
     }
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,34 +220,9 @@ mod tests {
     }
 
     /// The in-place prediction is F P Fᵀ + Q (and F x) to round-off, and the same, bit for
-    /// bit, as the trait's default built on `predict`.
+    /// bit, as `predict` (which the trait's default is built on).
     #[test]
     fn in_place_prediction_is_the_kalman_prediction() {
-        /// The same model, with the trait's default `predict_all_in_place`.
-        #[derive(Debug)]
-        struct Default(ConstantVelocity);
-        impl MotionModel for Default {
-            fn state_dim(&self) -> usize {
-                self.0.state_dim()
-            }
-            fn position_dims(&self) -> usize {
-                self.0.position_dims()
-            }
-            fn position(&self, x: &DVector<f64>) -> Vector3<f64> {
-                self.0.position(x)
-            }
-            fn velocity(&self, x: &DVector<f64>) -> Option<Vector3<f64>> {
-                self.0.velocity(x)
-            }
-            fn predict(
-                &self,
-                mean: &DVector<f64>,
-                cov: &DMatrix<f64>,
-                dt: f64,
-            ) -> Result<(DVector<f64>, DMatrix<f64>), FilterError> {
-                self.0.predict(mean, cov, dt)
-            }
-        }
         let model = ConstantVelocity::new(3, 0.7).unwrap();
         let root = DMatrix::from_fn(6, 6, |r, c| ((r * 7 + c * 3) % 5) as f64 * 0.3 + 0.1);
         let cov = &root * root.transpose() + DMatrix::identity(6, 6);
@@ -256,11 +230,9 @@ mod tests {
         let dt = 0.04;
         let mut in_place = vec![Gaussian::new(0.3, mean.clone(), cov.clone(), Label(4))];
         model.predict_all_in_place(&mut in_place, dt).unwrap();
-        let mut by_default = vec![Gaussian::new(0.3, mean.clone(), cov.clone(), Label(4))];
-        Default(model.clone())
-            .predict_all_in_place(&mut by_default, dt)
-            .unwrap();
-        assert_eq!(in_place, by_default);
+        let (by_predict_mean, by_predict_cov) = model.predict(&mean, &cov, dt).unwrap();
+        assert_eq!(in_place[0].mean, by_predict_mean);
+        assert_eq!(in_place[0].cov, by_predict_cov);
         let f = model.transition(dt);
         let expected_cov = &f * &cov * f.transpose() + model.process_noise(dt);
         assert!((&f * &mean - &in_place[0].mean).amax() < 1e-12);

@@ -143,7 +143,6 @@ fn gate_candidates<D: Dims>(
 }
 
 /// The normaliser, U(z) and the kept pairs from the candidates in `scratch`.
-#[inline]
 fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &mut Scratch) -> MeasurementPairs {
     let max = scratch
         .candidates
