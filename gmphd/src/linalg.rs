@@ -22,7 +22,14 @@ const EIGENVALUE_FLOOR: f64 = 1e-12;
 
 /// Wraps an angle to [-pi, pi).
 pub fn wrap_angle(angle: f64) -> f64 {
-    let wrapped = (angle + PI).rem_euclid(TAU) - PI;
+    let shifted = angle + PI;
+    // `rem_euclid` returns a value already in [0, 2π) unchanged, so the common case (a
+    // residual of two angles that is already small) skips its floating-point remainder.
+    let wrapped = if (0.0..TAU).contains(&shifted) {
+        shifted
+    } else {
+        shifted.rem_euclid(TAU)
+    } - PI;
     // `rem_euclid` can round up to exactly TAU for inputs just below a multiple of 2 pi.
     if wrapped >= PI {
         wrapped - TAU
@@ -318,6 +325,30 @@ pub fn log_sum_exp(terms: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wrap_angle_skips_the_remainder_without_changing_a_bit() {
+        let by_remainder = |angle: f64| {
+            let wrapped = (angle + PI).rem_euclid(TAU) - PI;
+            if wrapped >= PI {
+                wrapped - TAU
+            } else {
+                wrapped
+            }
+        };
+        let edges = [-PI, PI, -TAU, TAU, 0.0, -0.0, 3.0 * PI];
+        let near = edges
+            .iter()
+            .flat_map(|&e| [e.next_down(), e, e.next_up()].into_iter());
+        let spread = (-2000..=2000).map(|i| f64::from(i) * 0.00731);
+        for angle in near.chain(spread) {
+            assert_eq!(
+                wrap_angle(angle).to_bits(),
+                by_remainder(angle).to_bits(),
+                "{angle}"
+            );
+        }
+    }
 
     #[test]
     fn wrap_angle_lands_in_half_open_interval() {

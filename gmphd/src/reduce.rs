@@ -99,16 +99,31 @@ impl PruneMergeCap {
 
 /// What orders components: weight, label and position in the input, copied out of the
 /// component so that sorting thousands of them does not chase a pointer per comparison.
-type Rank = (f64, Label, usize);
+/// The weight is held as [`descending_key`], so that comparing two ranks compares three
+/// integers.
+type Rank = (u64, Label, usize);
 
 /// The [`Rank`] of component `g` at position `index`.
 fn rank(index: usize, g: &Gaussian) -> Rank {
-    (g.weight, g.label, index)
+    (descending_key(g.weight), g.label, index)
+}
+
+/// An integer whose ascending order is the descending order of `f64::total_cmp`.
+fn descending_key(weight: f64) -> u64 {
+    let bits = weight.to_bits();
+    // total_cmp's own key: a negative number's bits all flipped (larger magnitudes come
+    // first), a positive number's sign bit set (above every negative one).
+    let ascending = if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    };
+    !ascending
 }
 
 /// Heaviest first, then smaller label, then earlier position.
 fn heaviest_first(a: &Rank, b: &Rank) -> Ordering {
-    b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
+    a.cmp(b)
 }
 
 /// Orders reduced components (with their pivot order and a payload) heaviest first and
@@ -214,6 +229,36 @@ mod tests {
             component(0.2, 10.0, 2),
             component(0.1, 20.0, 3),
         ])
+    }
+
+    #[test]
+    fn descending_keys_order_weights_as_total_cmp_reversed() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut weights = vec![
+            0.0,
+            -0.0,
+            1e-300,
+            f64::MIN_POSITIVE,
+            1.0,
+            -1.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            -f64::NAN,
+            f64::MAX,
+        ];
+        weights.extend(
+            (0..200).map(|_| rng.gen_range(-1.0..1.0) * 10f64.powi(rng.gen_range(-20..20))),
+        );
+        for a in &weights {
+            for b in &weights {
+                assert_eq!(
+                    descending_key(*a).cmp(&descending_key(*b)),
+                    b.total_cmp(a),
+                    "{a} vs {b}"
+                );
+            }
+        }
     }
 
     #[test]
