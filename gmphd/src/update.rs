@@ -39,7 +39,7 @@ use rayon::prelude::*;
 use crate::error::FilterError;
 use crate::gating::Gating;
 use crate::gaussian::{Gaussian, GaussianMixture};
-use crate::measurement::{Measurement, MeasurementModel};
+use crate::measurement::{Measurement, MeasurementModel, Residual};
 use crate::motion::MotionModel;
 use crate::ukf::UnscentedParams;
 use candidates::CandidateIndex;
@@ -280,7 +280,7 @@ where
     };
 
     let rules = PairRules {
-        sensor: step.sensor,
+        residual: Residual::of(step.sensor),
         log_clutter: step.sensor.clutter_intensity().ln(),
         gate,
         min_weight: gating.min_weight,

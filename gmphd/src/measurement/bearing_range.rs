@@ -10,6 +10,9 @@ use super::{
 };
 use crate::error::FilterError;
 
+/// The measurement entry that is an angle (the bearing): its residual is wrapped.
+const ANGULAR: [usize; 1] = [0];
+
 /// z = [bearing, range]: bearing = atan2(Δy, Δx), range = √(Δx² + Δy²) from the
 /// sensor position, heights ignored.
 ///
@@ -91,11 +94,15 @@ impl MeasurementModel for BearingRange {
     }
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        wrapped_residual(z, zhat, &[0])
+        wrapped_residual(z, zhat, &ANGULAR)
     }
 
     fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &[0], out);
+        wrapped_residual_into(z, zhat, &ANGULAR, out);
+    }
+
+    fn wrapped_entries(&self) -> Option<&[usize]> {
+        Some(&ANGULAR)
     }
 
     /// Range: never wrapped.

@@ -127,6 +127,10 @@ impl MeasurementModel for PinholeCamera {
         wrapped_residual_into(z, zhat, &[], out);
     }
 
+    fn wrapped_entries(&self) -> Option<&[usize]> {
+        Some(&[])
+    }
+
     /// U (pixels): never wrapped.
     fn index_dim(&self) -> Option<usize> {
         Some(0)

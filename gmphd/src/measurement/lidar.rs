@@ -10,6 +10,9 @@ use super::{
 };
 use crate::error::{invalid, FilterError};
 
+/// The measurement entry that is an angle (the azimuth): its residual is wrapped.
+const ANGULAR: [usize; 1] = [1];
+
 /// How far from 1 the norm of a configured orientation quaternion may be.
 const UNIT_QUATERNION_TOLERANCE: f64 = 1e-6;
 
@@ -118,11 +121,15 @@ impl MeasurementModel for Lidar {
     }
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        wrapped_residual(z, zhat, &[1])
+        wrapped_residual(z, zhat, &ANGULAR)
     }
 
     fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &[1], out);
+        wrapped_residual_into(z, zhat, &ANGULAR, out);
+    }
+
+    fn wrapped_entries(&self) -> Option<&[usize]> {
+        Some(&ANGULAR)
     }
 
     /// Range: never wrapped.

@@ -93,6 +93,10 @@ impl MeasurementModel for MicPair {
         wrapped_residual_into(z, zhat, &[], out);
     }
 
+    fn wrapped_entries(&self) -> Option<&[usize]> {
+        Some(&[])
+    }
+
     /// The delay: never wrapped.
     fn index_dim(&self) -> Option<usize> {
         Some(0)

@@ -129,6 +129,15 @@ pub trait MeasurementModel: Send + Sync + Debug {
         out.copy_from_slice(r.as_slice());
     }
 
+    /// The entries [`MeasurementModel::residual`] wraps to [-pi, pi), when its residual is
+    /// exactly z − ẑ with those entries wrapped by [`wrap_angle`] — as for every model of
+    /// this crate. The update then computes the residual of each component–measurement
+    /// pair inline instead of through a call of `residual_into` per pair.
+    /// `None` (the default, right for any model) keeps `residual_into`.
+    fn wrapped_entries(&self) -> Option<&[usize]> {
+        None
+    }
+
     /// A dimension whose residual is the plain difference z_i − ẑ_i (not an angle that
     /// [`MeasurementModel::residual_into`] wraps). The gated update sorts measurements along
     /// it so that each component meets only the measurements inside its gate's extent there,
@@ -236,6 +245,7 @@ pub(crate) fn wrapped_residual(
 
 /// z − ẑ into `out` with the components listed in `angular` wrapped to [-pi, pi), without
 /// allocating (see [`MeasurementModel::residual_into`]).
+#[inline]
 pub(crate) fn wrapped_residual_into(z: &[f64], zhat: &[f64], angular: &[usize], out: &mut [f64]) {
     for ((o, a), b) in out.iter_mut().zip(z).zip(zhat) {
         *o = a - b;
@@ -271,5 +281,33 @@ pub(crate) fn positive(value: f64, name: &'static str) -> Result<f64, FilterErro
         Ok(value)
     } else {
         Err(invalid(name, format!("{value} is not a finite number > 0")))
+    }
+}
+
+/// A model's residual as the update computes it for every pair: inline when the model
+/// declares it z − ẑ with some entries wrapped ([`MeasurementModel::wrapped_entries`]),
+/// through [`MeasurementModel::residual_into`] otherwise. Both give the same numbers.
+#[derive(Clone, Copy)]
+pub(crate) struct Residual<'a> {
+    sensor: &'a dyn MeasurementModel,
+    wrapped: Option<&'a [usize]>,
+}
+
+impl<'a> Residual<'a> {
+    /// The residual of `sensor`.
+    pub(crate) fn of(sensor: &'a dyn MeasurementModel) -> Self {
+        Self {
+            sensor,
+            wrapped: sensor.wrapped_entries(),
+        }
+    }
+
+    /// z − ẑ (wrapped as the model says) into `out`.
+    #[inline]
+    pub(crate) fn write(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
+        match self.wrapped {
+            Some(angular) => wrapped_residual_into(z, zhat, angular, out),
+            None => self.sensor.residual_into(z, zhat, out),
+        }
     }
 }

@@ -126,6 +126,10 @@ impl MeasurementModel for PositionSensor {
         wrapped_residual_into(z, zhat, &[], out);
     }
 
+    fn wrapped_entries(&self) -> Option<&[usize]> {
+        Some(&[])
+    }
+
     /// X: never wrapped.
     fn index_dim(&self) -> Option<usize> {
         Some(0)

@@ -7,11 +7,12 @@ use super::component::Detectable;
 use super::correction::Correction;
 use super::dims::{Dims, Storage};
 use crate::gaussian::Gaussian;
-use crate::measurement::{Measurement, MeasurementModel};
+use crate::measurement::{Measurement, Residual};
 
 /// What scoring one measurement needs besides the components.
 pub(super) struct PairRules<'a> {
-    pub(super) sensor: &'a dyn MeasurementModel,
+    /// The sensor's residual z − ẑ.
+    pub(super) residual: Residual<'a>,
     /// log κ(z).
     pub(super) log_clutter: f64,
     /// γ: the largest squared Mahalanobis distance inside the gate (+∞ without a gate).
@@ -64,7 +65,7 @@ where
             detectable,
             nearby.iter().copied(),
             measurement,
-            rules.sensor,
+            rules.residual,
             rules.gate,
             scratch,
         ),
@@ -72,7 +73,7 @@ where
             detectable,
             all(),
             measurement,
-            rules.sensor,
+            rules.residual,
             rules.gate,
             scratch,
         ),
@@ -87,7 +88,7 @@ where
             detectable,
             all(),
             measurement,
-            rules.sensor,
+            rules.residual,
             f64::INFINITY,
             scratch,
         );
@@ -108,7 +109,7 @@ fn gate_candidates<D: Dims>(
     detectable: &[Detectable<'_, D>],
     indices: impl Iterator<Item = usize>,
     measurement: &Measurement,
-    sensor: &dyn MeasurementModel,
+    residual_of: Residual<'_>,
     gate: f64,
     scratch: &mut Scratch,
 ) where
@@ -123,7 +124,7 @@ fn gate_candidates<D: Dims>(
     let z = measurement.z.as_slice();
     for k in indices {
         let d = &detectable[k];
-        sensor.residual_into(z, d.predicted_z(), residual);
+        residual_of.write(z, d.predicted_z(), residual);
         let log_q = match &measurement.cov {
             None => {
                 if gate < f64::INFINITY && d.innovation.outside_box(residual) {

@@ -12,6 +12,7 @@ use super::UpdateStep;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
 use crate::linalg::{copy_into, lower_cholesky_columns, robust_cholesky};
+use crate::measurement::Residual;
 
 /// Reusable buffers of the transform.
 #[derive(Default)]
@@ -119,12 +120,12 @@ where
     // skipping them halves the work of the moments.
     let outputs = &scratch.outputs;
     let at_centre = &scratch.at_centre;
+    let residual = Residual::of(step.sensor);
     let mut mean = OVector::<f64, D::M>::from_column_slice_generic(m_dim, U1, &outputs[..m]);
-    step.sensor
-        .residual_into(&outputs[..m], &outputs[..m], &mut scratch.centre_residual);
+    residual.write(&outputs[..m], &outputs[..m], &mut scratch.centre_residual);
     let centred = at_centre[1..].iter().filter(|c| **c).count();
     for j in (1..points).filter(|&j| !at_centre[j]) {
-        step.sensor.residual_into(
+        residual.write(
             &outputs[j * m..(j + 1) * m],
             &outputs[..m],
             &mut scratch.residual,
@@ -141,8 +142,7 @@ where
     }
     let mut cov = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
     let mut cross_cov = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
-    step.sensor
-        .residual_into(&outputs[..m], mean.as_slice(), &mut scratch.centre_residual);
+    residual.write(&outputs[..m], mean.as_slice(), &mut scratch.centre_residual);
     // Whether point j's contribution to the cross-covariance cancels: a point at the centre
     // whose mirror image (the same column, the other sign) is at the centre too adds
     // ±w·column·dyᵀ with the same dy.
@@ -154,7 +154,7 @@ where
         let dy = if j == 0 || at_centre[j] {
             &scratch.centre_residual[..m]
         } else {
-            step.sensor.residual_into(
+            residual.write(
                 &outputs[j * m..(j + 1) * m],
                 mean.as_slice(),
                 &mut scratch.residual,
