@@ -68,13 +68,19 @@ where
             // symmetric positive definite under round-off. B Hᵀ is B's first m columns.
             let b_columns =
                 OMatrix::<f64, D::N, D::M>::from_fn_generic(n_dim, m_dim, |i, k| posterior[(i, k)]);
+            // K_ik R_kl, the left factor of each term of K R Kᵀ (as the product associates).
+            let gain_noise: Vec<OMatrix<f64, D::N, D::M>> = (0..m)
+                .map(|k| {
+                    OMatrix::from_fn_generic(n_dim, m_dim, |i, l| gain[(i, k)] * noise[(k, l)])
+                })
+                .collect();
             for j in 0..n {
                 for i in 0..n {
                     let mut v = 0.0;
-                    for k in 0..m {
+                    for (k, gain_noise) in gain_noise.iter().enumerate() {
                         v -= b_columns[(i, k)] * gain[(j, k)];
                         for l in 0..m {
-                            v += gain[(i, k)] * noise[(k, l)] * gain[(j, l)];
+                            v += gain_noise[(i, l)] * gain[(j, l)];
                         }
                     }
                     posterior[(i, j)] += v;
