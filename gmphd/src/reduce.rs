@@ -151,9 +151,9 @@ impl Reducer for PruneMergeCap {
     fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture {
         let merged = self
             .clusters(mixture)
-            .into_iter()
+            .iter()
             .map(|cluster| {
-                let reduced = match cluster.as_slice() {
+                let reduced = match cluster {
                     // Nothing to match: the component itself (moments would only add rounding).
                     [only] => mixture.components[*only].clone(),
                     _ => merge(cluster.iter().map(|&i| &mixture.components[i])),
@@ -181,7 +181,7 @@ impl Reducer for PruneMergeCap {
                     .map(member)
                     .map(|g| (g.label, g.weight))
                     .collect();
-                let component = match cluster.as_slice() {
+                let component = match cluster {
                     [only] => slots[*only].take().expect("in one cluster only"),
                     _ => merge(cluster.iter().map(member)),
                 };

@@ -50,7 +50,7 @@ impl Probe {
 impl PruneMergeCap {
     /// Vo & Ma's clusters: indices into `mixture`, one cluster per reduced component in
     /// pivot (weight) order, each heaviest member first. Pruned components are in none.
-    pub(super) fn clusters(&self, mixture: &GaussianMixture) -> Vec<Vec<usize>> {
+    pub(super) fn clusters(&self, mixture: &GaussianMixture) -> Clusters {
         let mut order: Vec<(Rank, &Gaussian)> = mixture
             .iter()
             .enumerate()
@@ -107,7 +107,10 @@ impl PruneMergeCap {
         let mut members = Vec::new();
         let mut candidates = Vec::new();
         let mut scratch = Vec::new();
-        let mut clusters = Vec::new();
+        let mut clusters = Clusters {
+            members: Vec::with_capacity(kept.len()),
+            ends: Vec::new(),
+        };
         for pivot in 0..kept.len() {
             if !unmerged[pivot] {
                 continue;
@@ -174,9 +177,31 @@ impl PruneMergeCap {
                     in_sorted.remove(position[i]);
                 }
             }
-            clusters.push(members.iter().map(|&i| order[i].0 .2).collect());
+            clusters
+                .members
+                .extend(members.iter().map(|&i| order[i].0 .2));
+            clusters.ends.push(clusters.members.len());
         }
         clusters
+    }
+}
+
+/// The clusters of [`PruneMergeCap::clusters`], one after the other in a single list (most
+/// are a single component, which would otherwise take an allocation each).
+pub(super) struct Clusters {
+    /// Every cluster's members.
+    members: Vec<usize>,
+    /// Where each cluster ends in `members` (it starts where the previous one ends).
+    ends: Vec<usize>,
+}
+
+impl Clusters {
+    /// The clusters in order, each as its members.
+    pub(super) fn iter(&self) -> impl ExactSizeIterator<Item = &[usize]> + '_ {
+        (0..self.ends.len()).map(|k| {
+            let start = k.checked_sub(1).map_or(0, |previous| self.ends[previous]);
+            &self.members[start..self.ends[k]]
+        })
     }
 }
 
