@@ -248,7 +248,7 @@ impl LabelledTracker {
         let position = |x: &DVector<f64>| DVector::from_column_slice(motion.position(x).as_slice());
         let mut previous = Vec::with_capacity(self.previous.len());
         for estimate in &self.previous {
-            let (predicted, _) = motion.predict(&estimate.mean, &estimate.cov, dt)?;
+            let predicted = motion.predict_mean(&estimate.mean, &estimate.cov, dt)?;
             previous.push(PreviousEstimate {
                 label: estimate.label,
                 predicted: position(&predicted),

@@ -88,11 +88,8 @@ fn predict_sized<const D: usize, const N: usize, const NN: usize>(
     dt: f64,
     noise: [f64; 3],
 ) {
-    let mean: &mut [f64; N] = mean.try_into().expect("a state of 2D entries");
+    advance_mean::<D>(mean, dt);
     let cov: &mut [f64; NN] = cov.try_into().expect("an N × N covariance");
-    for i in 0..D {
-        mean[i] += dt * mean[D + i];
-    }
     for c in 0..N {
         for i in 0..D {
             cov[i + c * N] += dt * cov[D + i + c * N];
@@ -107,6 +104,15 @@ fn predict_sized<const D: usize, const N: usize, const NN: usize>(
     symmetrize_in_place(&mut MatrixViewMut::<f64, Const<N>, Const<N>>::from_slice(
         cov,
     ));
+}
+
+/// F x in place for D spatial dimensions: dt times each velocity added to its position.
+#[inline]
+fn advance_mean<const D: usize>(mean: &mut [f64], dt: f64) {
+    let (positions, velocities) = mean.split_at_mut(D);
+    for (x, v) in positions.iter_mut().zip(&velocities[..D]) {
+        *x += dt * v;
+    }
 }
 
 /// Adds Q's per-axis `[position, cross, velocity]` entries to the column-major covariance
@@ -151,6 +157,22 @@ impl MotionModel for ConstantVelocity {
         let noise = self.noise_terms(dt);
         self.predict_unchecked(mean.as_mut_slice(), cov.as_mut_slice(), dt, noise);
         Ok((mean, cov))
+    }
+
+    fn predict_mean(
+        &self,
+        mean: &DVector<f64>,
+        cov: &DMatrix<f64>,
+        dt: f64,
+    ) -> Result<DVector<f64>, FilterError> {
+        check_dt(dt)?;
+        check_gaussian_dims(mean, cov, self.state_dim())?;
+        let mut mean = mean.clone();
+        match self.dims {
+            2 => advance_mean::<2>(mean.as_mut_slice(), dt),
+            _ => advance_mean::<3>(mean.as_mut_slice(), dt),
+        }
+        Ok(mean)
     }
 
     fn predict_all_in_place(
@@ -233,6 +255,12 @@ mod tests {
         let (by_predict_mean, by_predict_cov) = model.predict(&mean, &cov, dt).unwrap();
         assert_eq!(in_place[0].mean, by_predict_mean);
         assert_eq!(in_place[0].cov, by_predict_cov);
+        // The mean alone, without the covariance's work, is the same bit for bit.
+        assert_eq!(
+            model.predict_mean(&mean, &cov, dt).unwrap(),
+            by_predict_mean
+        );
+        assert!(model.predict_mean(&mean, &cov, -dt).is_err());
         let f = model.transition(dt);
         let expected_cov = &f * &cov * f.transpose() + model.process_noise(dt);
         assert!((&f * &mean - &in_place[0].mean).amax() < 1e-12);
