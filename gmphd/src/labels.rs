@@ -30,6 +30,7 @@ use crate::assignment::{min_cost_matching, AssignmentError, CostMatrix};
 use crate::gaussian::{Label, LabelSource};
 use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
+use smallvec::{smallvec, SmallVec};
 use std::collections::{BTreeMap, BTreeSet};
 use thiserror::Error;
 
@@ -77,8 +78,9 @@ pub enum LabelError {
 /// The labels a current estimate may inherit, each with the weight it contributed.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct LabelSet {
-    /// Distinct labels with their summed contributing weight.
-    members: Vec<(Label, f64)>,
+    /// Distinct labels with their summed contributing weight; most sets hold one or two
+    /// (a component and what merged into it), which are kept without an allocation.
+    members: SmallVec<[(Label, f64); 2]>,
 }
 
 impl LabelSet {
@@ -90,7 +92,7 @@ impl LabelSet {
     /// The set of one label.
     pub fn single(label: Label, weight: f64) -> Self {
         Self {
-            members: vec![(label, weight)],
+            members: smallvec![(label, weight)],
         }
     }
 
@@ -132,7 +134,7 @@ impl LabelSet {
 
     /// Labels with their weights, heaviest first (ties: smaller label first).
     pub fn heaviest_first(&self) -> Vec<(Label, f64)> {
-        let mut sorted = self.members.clone();
+        let mut sorted = self.members.to_vec();
         sorted.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
         sorted
     }
