@@ -202,16 +202,6 @@ pub(crate) fn lower_cholesky_columns(
     true
 }
 
-/// The lower Cholesky factor of `matrix` (its lower triangle is read), or `None` when it is
-/// not numerically positive definite: [`lower_cholesky`] into a matrix, without nalgebra's
-/// general machinery (the gates of the reducer and of label ancestry factor many small
-/// covariances per set).
-pub(crate) fn lower_factor(matrix: &DMatrix<f64>) -> Option<DMatrix<f64>> {
-    let n = matrix.nrows();
-    let mut lower = DMatrix::zeros(n, n);
-    lower_cholesky(n, |r, c| matrix[(r, c)], lower.as_mut_slice()).then_some(lower)
-}
-
 /// Cholesky factor of a covariance, repairing it with [`nearest_spd`] when needed.
 ///
 /// Never fails and never loops forever: a matrix that cannot be repaired (only
@@ -264,17 +254,23 @@ pub fn gaussian_log_density(residual: &DVector<f64>, chol: &Cholesky<f64, Dyn>) 
 ///
 /// Each entry alone bounds the distance, dᵀ P⁻¹ d ≥ d_k² / P_kk, so a pair with some
 /// d_k² > threshold · P_kk is rejected at once; only the others need the Cholesky factor
-/// of P, computed on first use, and a forward substitution that stops as soon as the
-/// partial sum exceeds the threshold.
+/// of P, and a forward substitution that stops as soon as the partial sum exceeds the
+/// threshold. Row i of the substitution needs rows 0..=i of the factor only, and most
+/// tests stop within the position's rows, so the factor is computed row by row as the
+/// substitutions first reach each row (the same arithmetic as [`lower_cholesky`], in the
+/// same order: the same factor).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct MahalanobisGate {
-    lower: Option<DMatrix<f64>>,
+    /// The lower Cholesky factor of P, column-major, valid in its first `rows` rows.
+    lower: Vec<f64>,
+    /// Rows of `lower` computed so far.
+    rows: usize,
 }
 
 impl MahalanobisGate {
-    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`, with `factor`
-    /// giving the lower Cholesky factor of P when first needed; `None` when `factor`
-    /// fails. `scratch` is resized to the dimension.
+    /// (point − centre)ᵀ P⁻¹ (point − centre) ≤ `threshold` for P = `cov`. When a pivot of
+    /// P's Cholesky factor is not positive, `fallback` gives the factor to use instead (all
+    /// of it), or `None`, which is then returned. `scratch` is resized to the dimension.
     pub(crate) fn contains(
         &mut self,
         cov: &DMatrix<f64>,
@@ -282,7 +278,7 @@ impl MahalanobisGate {
         centre: &DVector<f64>,
         threshold: f64,
         scratch: &mut Vec<f64>,
-        factor: impl FnOnce(&DMatrix<f64>) -> Option<DMatrix<f64>>,
+        fallback: impl FnOnce(&DMatrix<f64>) -> Option<DMatrix<f64>>,
     ) -> Option<bool> {
         let n = cov.nrows();
         scratch.resize(n, 0.0);
@@ -292,12 +288,19 @@ impl MahalanobisGate {
                 return Some(false);
             }
         }
-        if self.lower.is_none() {
-            self.lower = Some(factor(cov)?);
+        if self.lower.len() != n * n {
+            self.lower = vec![0.0; n * n];
+            self.rows = 0;
         }
-        let l = self.lower.as_ref().map_or(&[][..], |l| l.as_slice());
+        let mut fallback = Some(fallback);
         let mut sum = 0.0;
         for i in 0..n {
+            if self.rows <= i && !self.factor_row(cov, i) {
+                let repaired = fallback.take().and_then(|fallback| fallback(cov))?;
+                self.lower.copy_from_slice(repaired.as_slice());
+                self.rows = n;
+            }
+            let l = &self.lower;
             let mut v = scratch[i];
             for k in 0..i {
                 v -= l[i + k * n] * scratch[k];
@@ -310,6 +313,30 @@ impl MahalanobisGate {
             }
         }
         Some(true)
+    }
+
+    /// Computes row `i` of the factor of `cov` (rows before it are done): false when its
+    /// pivot is not positive.
+    fn factor_row(&mut self, cov: &DMatrix<f64>, i: usize) -> bool {
+        let n = cov.nrows();
+        let l = &mut self.lower;
+        for j in 0..i {
+            let mut v = cov[(i, j)];
+            for k in 0..j {
+                v -= l[i + k * n] * l[j + k * n];
+            }
+            l[i + j * n] = v / l[j + j * n];
+        }
+        let mut diagonal = cov[(i, i)];
+        for k in 0..i {
+            diagonal -= l[i + k * n] * l[i + k * n];
+        }
+        if diagonal <= 0.0 || diagonal.is_nan() {
+            return false;
+        }
+        l[i + i * n] = diagonal.sqrt();
+        self.rows = i + 1;
+        true
     }
 }
 
@@ -325,6 +352,52 @@ pub fn log_sum_exp(terms: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_gate_factors_row_by_row_as_lower_cholesky_does() {
+        let root = DMatrix::from_fn(6, 6, |r, c| ((r * 5 + c * 7) % 11) as f64 * 0.21 - 0.9);
+        let cov = &root * root.transpose() + DMatrix::identity(6, 6) * 0.3;
+        let mut full = vec![0.0; 36];
+        assert!(lower_cholesky(6, |r, c| cov[(r, c)], &mut full));
+        let centre = DVector::zeros(6);
+        let mut scratch = Vec::new();
+        let mut gate = MahalanobisGate::default();
+        let never =
+            |_: &DMatrix<f64>| -> Option<DMatrix<f64>> { unreachable!("positive definite") };
+        for step in 0..40 {
+            let point = DVector::from_fn(6, |i, _| ((step * 3 + i * 5) % 9) as f64 * 0.25 - 1.0);
+            // The exact distance, through the full factor.
+            let mut whitened = point.as_slice().to_vec();
+            for i in 0..6 {
+                for k in 0..i {
+                    whitened[i] -= full[i + k * 6] * whitened[k];
+                }
+                whitened[i] /= full[i + i * 6];
+            }
+            let distance: f64 = whitened.iter().map(|w| w * w).sum();
+            let inside = gate.contains(&cov, &point, &centre, 4.0, &mut scratch, never);
+            assert_eq!(inside, Some(distance <= 4.0), "{point}");
+            assert!(gate.lower[..gate.rows].iter().all(|x| x.is_finite()));
+        }
+        assert_eq!(gate.rows, 6, "some point went through every row");
+        assert_eq!(gate.lower, full, "bit for bit");
+        // An indefinite covariance: the fallback's factor, or its `None`.
+        let mut bad = cov.clone();
+        bad[(4, 4)] = 1e-6;
+        // (Zero in entry 4, so that the entry-wise test does not settle it first.)
+        let point = DVector::from_fn(6, |i, _| if i == 4 { 0.0 } else { 0.01 });
+        let mut gate = MahalanobisGate::default();
+        assert_eq!(
+            gate.contains(&bad, &point, &centre, 4.0, &mut scratch, |_| None),
+            None
+        );
+        let identity = |_: &DMatrix<f64>| Some(DMatrix::identity(6, 6));
+        let mut gate = MahalanobisGate::default();
+        assert_eq!(
+            gate.contains(&bad, &point, &centre, 4.0, &mut scratch, identity),
+            Some(true)
+        );
+    }
 
     #[test]
     fn wrap_angle_skips_the_remainder_without_changing_a_bit() {

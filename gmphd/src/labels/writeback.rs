@@ -4,8 +4,9 @@
 use super::{LabelError, LabelSet, Relabelling};
 use crate::extract::Estimate;
 use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
-use crate::linalg::{lower_factor, MahalanobisGate};
+use crate::linalg::MahalanobisGate;
 use crate::sweep::IntervalHits;
+use nalgebra::DMatrix;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The inherited label set of each estimate, derived from the mixture *before*
@@ -68,7 +69,8 @@ pub fn inherited_label_sets(
             let mut set = LabelSet::single(estimate.label, 0.0);
             for &c in near.hits(e) {
                 let (component, gate) = (&pre_reduction.components[c], &mut gates[c]);
-                let strict = lower_factor;
+                // No repair: a singular covariance is an error here.
+                let strict = |_: &DMatrix<f64>| None;
                 let close = gate.contains(
                     &component.cov,
                     &component.mean,

@@ -4,7 +4,7 @@ use nalgebra::DMatrix;
 
 use super::{heaviest_first, rank, PruneMergeCap, Rank};
 use crate::gaussian::{Gaussian, GaussianMixture};
-use crate::linalg::{lower_factor, robust_cholesky, MahalanobisGate};
+use crate::linalg::{robust_cholesky, MahalanobisGate};
 use crate::sweep;
 
 /// Leading coordinates a [`Probe`] holds (the position of a 3-D state).
@@ -155,9 +155,7 @@ impl PruneMergeCap {
                     continue;
                 }
                 let (candidate, gate) = (kept[i], &mut gates[i]);
-                let robust = |cov: &DMatrix<f64>| {
-                    lower_factor(cov).or_else(|| Some(robust_cholesky(cov).unpack()))
-                };
+                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
                 if candidate.dim() == centre.len()
                     && gate.contains(
                         &candidate.cov,
