@@ -28,6 +28,39 @@ pub(crate) fn run<T>(sorted: &[(f64, T)], centre: f64, half: f64) -> Option<(usi
     Some((start, end.max(start)))
 }
 
+/// [`run`] around each entry's own value, `runs_of_each(sorted, half)[k] ==
+/// run(sorted, sorted[k].0, half)` (`None` where that is not finite), in one pass: the
+/// runs of neighbouring centres start and end near each other, so each is found by walking
+/// from the previous one instead of by two binary searches (the same comparisons decide
+/// where a walk stops, so the runs are the same).
+pub(crate) fn runs_of_each<T>(sorted: &[(f64, T)], half: f64) -> Vec<Option<(usize, usize)>> {
+    let (mut start, mut end) = (0, 0);
+    sorted
+        .iter()
+        .map(|&(centre, _)| {
+            if !(centre.is_finite() && half.is_finite()) {
+                return None;
+            }
+            let slack = SLACK * (half.abs() + centre.abs()) + f64::MIN_POSITIVE;
+            let (low, high) = (centre - half - slack, centre + half + slack);
+            // The partition points of `v < low` and `v <= high`, walked to from the last.
+            while start > 0 && sorted[start - 1].0 >= low {
+                start -= 1;
+            }
+            while start < sorted.len() && sorted[start].0 < low {
+                start += 1;
+            }
+            while end > 0 && sorted[end - 1].0 > high {
+                end -= 1;
+            }
+            while end < sorted.len() && sorted[end].0 <= high {
+                end += 1;
+            }
+            Some((start, end.max(start)))
+        })
+        .collect()
+}
+
 /// For each query, the items whose interval contains it, ascending (compressed rows).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct IntervalHits {
@@ -105,6 +138,32 @@ mod tests {
         assert_eq!(hits.hits(3), &[2, 3]);
         // A zero-width interval still contains its own centre.
         assert_eq!(hits.hits(4), &[2, 3, 4]);
+    }
+
+    #[test]
+    fn runs_of_each_are_the_binary_searches_runs() {
+        let values = [
+            -3.0,
+            -1.0,
+            -1.0,
+            -0.5,
+            0.0,
+            0.1,
+            0.3,
+            0.30000000000000004,
+            1.0,
+            1.0,
+            2.5,
+            7.0,
+            1e9,
+        ];
+        for half in [0.0, 0.2, 0.5, 1.0, 4.0, 1e10, f64::INFINITY] {
+            let sorted: Vec<(f64, usize)> = values.iter().copied().zip(0..).collect();
+            let runs = runs_of_each(&sorted, half);
+            for (k, &(centre, _)) in sorted.iter().enumerate() {
+                assert_eq!(runs[k], run(&sorted, centre, half), "{centre} ± {half}");
+            }
+        }
     }
 
     #[test]

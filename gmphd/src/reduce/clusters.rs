@@ -100,6 +100,7 @@ impl PruneMergeCap {
             position[i] = k;
         }
         let mut in_sorted = Unmerged::new(sorted.len());
+        let runs = sweep::runs_of_each(&sorted, window);
 
         // Visited by weight: each component not yet merged is a pivot that takes every
         // later unmerged one within U.
@@ -119,10 +120,14 @@ impl PruneMergeCap {
             members.clear();
             members.push(pivot);
             candidates.clear();
-            if let Some(k) = position.get(pivot).filter(|k| **k != usize::MAX) {
-                in_sorted.remove(*k);
-            }
-            match sweep::run(&sorted, first(kept[pivot]), window) {
+            let run = match position[pivot] {
+                usize::MAX => sweep::run(&sorted, first(kept[pivot]), window),
+                k => {
+                    in_sorted.remove(k);
+                    runs[k]
+                }
+            };
+            match run {
                 Some((start, end)) => {
                     // The probe's test first: it rejects most, and fewer are left to sort.
                     let pivot_probe = &probes[pivot];
