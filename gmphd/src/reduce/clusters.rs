@@ -69,8 +69,9 @@ impl PruneMergeCap {
         // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
         // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
         // at those within the largest reach of them; the few widest components (beyond the
-        // 90th percentile of reach) would make that window wide, so they are kept aside and
-        // tested against every pivot. Merged components leave the sorted list (see
+        // 90th percentile of reach) would make that window wide, so they are kept aside in a
+        // list of their own, searched with their own window. Merged components leave the
+        // sorted list (see
         // `Unmerged`), so a pivot's window holds only components still to be clustered —
         // all of them later than the pivot, as every earlier one has been a pivot or a member.
         let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
@@ -85,16 +86,23 @@ impl PruneMergeCap {
             let at = finite_reach.len() * 9 / 10;
             *finite_reach.select_nth_unstable_by(at, f64::total_cmp).1
         };
-        let (mut sorted, mut wide) = (Vec::new(), Vec::new());
+        // Only a component whose first coordinate or reach is not finite is tested against
+        // every pivot.
+        let (mut sorted, mut wide, mut unbounded) = (Vec::new(), Vec::new(), Vec::new());
+        let mut wide_window = 0.0_f64;
         for (i, g) in kept.iter().enumerate() {
-            if first(g).is_finite() && reach[i] <= window {
+            if !(first(g).is_finite() && reach[i].is_finite()) {
+                unbounded.push(i);
+            } else if reach[i] <= window {
                 sorted.push((first(g), i));
             } else {
-                wide.push(i);
+                wide.push((first(g), i));
+                wide_window = wide_window.max(reach[i]);
             }
         }
         // Distinct pairs: the unstable sort orders them as a stable one would.
         sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        wide.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut position = vec![usize::MAX; kept.len()];
         for (k, &(_, i)) in sorted.iter().enumerate() {
             position[i] = k;
@@ -139,9 +147,19 @@ impl PruneMergeCap {
                         }
                         k = in_sorted.first_from(k + 1);
                     }
-                    wide.retain(|&i| unmerged[i]);
+                    let later = |i: usize| i > pivot && unmerged[i];
+                    if let Some((start, end)) = sweep::run(&wide, first(kept[pivot]), wide_window) {
+                        candidates.extend(
+                            wide[start..end]
+                                .iter()
+                                .map(|&(_, i)| i)
+                                .filter(|&i| later(i) && !probes[i].outside(pivot_probe)),
+                        );
+                    }
+                    unbounded.retain(|&i| unmerged[i]);
                     candidates.extend(
-                        wide.iter()
+                        unbounded
+                            .iter()
                             .copied()
                             .filter(|&i| i > pivot && !probes[i].outside(pivot_probe)),
                     );
