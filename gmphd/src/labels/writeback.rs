@@ -145,6 +145,8 @@ pub fn apply_relabelling(
     let claimed: BTreeSet<Label> = relabelling.labels.iter().copied().collect();
 
     let old = std::mem::take(&mut mixture.components);
+    // A split source adds a component per extra copy.
+    mixture.components.reserve(old.len() + estimates.len());
     let mut fresh_for: BTreeMap<Label, Label> = BTreeMap::new();
     let mut sources = labels_by_source.as_slice();
     for (index, component) in old.into_iter().enumerate() {
@@ -156,13 +158,20 @@ pub fn apply_relabelling(
             let (new_labels, rest) = sources.split_at(count);
             sources = rest;
             let share = component.weight / count as f64;
-            for &(_, label) in new_labels {
+            let (&(_, last_label), copies) = new_labels.split_last().expect("count > 0");
+            for &(_, label) in copies {
                 mixture.components.push(Gaussian {
                     weight: share,
                     label,
                     ..component.clone()
                 });
             }
+            // The last (usually the only) estimate of the source takes the component itself.
+            mixture.components.push(Gaussian {
+                weight: share,
+                label: last_label,
+                ..component
+            });
             continue;
         }
         let label = match group_rename.get(&component.label) {
