@@ -3,9 +3,12 @@
 use std::cmp::Ordering;
 use std::fmt::Debug;
 
+use nalgebra::{DMatrix, DVector};
+
 use crate::error::{invalid, FilterError};
 use crate::gaussian::{Gaussian, GaussianMixture, Label};
 use crate::labels::LabelSet;
+use clusters::Clusters;
 use merge::merge;
 
 mod clusters;
@@ -126,71 +129,75 @@ fn heaviest_first(a: &Rank, b: &Rank) -> Ordering {
     a.cmp(b)
 }
 
-/// Orders reduced components (with their pivot order and a payload) heaviest first and
-/// keeps at most `max_components`.
+/// The clusters to build, in the reduced mixture's order: heaviest merged weight first
+/// (then smaller label, then earlier cluster), at most `max_components` of them.
 ///
-/// The ranks are sorted rather than the components: a component and its payload are a
-/// few hundred bytes that a sort would move several times each. Ranks are distinct (they
-/// end with the position), so the unstable sort gives the order a stable one would.
-fn heaviest_kept<T>(merged: Vec<(Gaussian, T)>, max_components: usize) -> Vec<(Gaussian, T)> {
-    let mut ranks: Vec<Rank> = merged
+/// A cluster's weight and label are computed as [`merge`] computes them (the members'
+/// weights summed in cluster order; the first member's label), so the order is known
+/// before any component is built: each kept component is then built (or moved) once,
+/// straight into place, and the clusters the cap drops are never merged. Ranks are
+/// distinct (they end with the cluster's position), so the unstable sort gives the
+/// order a stable one would.
+fn heaviest_kept(
+    mixture: &GaussianMixture,
+    clusters: &Clusters,
+    max_components: usize,
+) -> Vec<usize> {
+    let mut ranks: Vec<Rank> = clusters
         .iter()
         .enumerate()
-        .map(|(i, (g, _))| rank(i, g))
+        .map(|(c, cluster)| {
+            let member = |i: &usize| &mixture.components[*i];
+            let weight: f64 = cluster.iter().map(member).map(|g| g.weight).sum();
+            (descending_key(weight), member(&cluster[0]).label, c)
+        })
         .collect();
     ranks.sort_unstable_by(heaviest_first);
     ranks.truncate(max_components);
-    let mut slots: Vec<Option<(Gaussian, T)>> = merged.into_iter().map(Some).collect();
-    ranks
-        .iter()
-        .map(|&(_, _, i)| slots[i].take().expect("each position is ranked once"))
-        .collect()
+    ranks.into_iter().map(|(_, _, c)| c).collect()
+}
+
+/// What is left in a component's place once it is moved out: empty, so it allocates nothing.
+fn moved_out() -> Gaussian {
+    Gaussian::new(0.0, DVector::zeros(0), DMatrix::zeros(0, 0), Label(0))
 }
 
 impl Reducer for PruneMergeCap {
     fn reduce(&self, mixture: &GaussianMixture) -> GaussianMixture {
-        let merged = self
-            .clusters(mixture)
-            .iter()
-            .map(|cluster| {
-                let reduced = match cluster {
-                    // Nothing to match: the component itself (moments would only add rounding).
-                    [only] => mixture.components[*only].clone(),
-                    _ => merge(cluster.iter().map(|&i| &mixture.components[i])),
-                };
-                (reduced, ())
+        let clusters = self.clusters(mixture);
+        let components = heaviest_kept(mixture, &clusters, self.max_components)
+            .into_iter()
+            .map(|c| match clusters.get(c) {
+                // Nothing to match: the component itself (moments would only add rounding).
+                [only] => mixture.components[*only].clone(),
+                members => merge(members.iter().map(|&i| &mixture.components[i])),
             })
             .collect();
-        let kept = heaviest_kept(merged, self.max_components);
-        GaussianMixture::from_components(kept.into_iter().map(|(g, _)| g).collect())
+        GaussianMixture::from_components(components)
     }
 
     /// As [`Reducer::reduce`], recording each cluster's labels; unmerged components are
     /// moved rather than copied.
     fn reduce_recording(&self, mixture: GaussianMixture) -> Reduction {
         let clusters = self.clusters(&mixture);
-        // Each component is in at most one cluster, so a singleton can be moved out while the
-        // other clusters' members are still in place.
-        let mut slots: Vec<Option<Gaussian>> = mixture.components.into_iter().map(Some).collect();
-        let merged = clusters
-            .iter()
-            .map(|cluster| {
-                let member = |i: &usize| slots[*i].as_ref().expect("in one cluster only");
-                let labels: LabelSet = cluster
-                    .iter()
-                    .map(member)
-                    .map(|g| (g.label, g.weight))
-                    .collect();
-                let component = match cluster {
-                    [only] => slots[*only].take().expect("in one cluster only"),
-                    _ => merge(cluster.iter().map(member)),
-                };
-                (component, labels)
-            })
-            .collect();
-        let (components, ancestry) = heaviest_kept(merged, self.max_components)
-            .into_iter()
-            .unzip();
+        let order = heaviest_kept(&mixture, &clusters, self.max_components);
+        let mut input = mixture.components;
+        let mut components = Vec::with_capacity(order.len());
+        let mut ancestry = Vec::with_capacity(order.len());
+        for c in order {
+            let cluster = clusters.get(c);
+            let labels: LabelSet = cluster
+                .iter()
+                .map(|&i| (input[i].label, input[i].weight))
+                .collect();
+            components.push(match cluster {
+                // Each component is in one cluster at most: a singleton's can be moved out
+                // (an empty placeholder, which allocates nothing, stays behind).
+                [only] => std::mem::replace(&mut input[*only], moved_out()),
+                members => merge(members.iter().map(|&i| &input[i])),
+            });
+            ancestry.push(labels);
+        }
         Reduction {
             mixture: GaussianMixture::from_components(components),
             ancestry: Ancestry::Recorded(ancestry),

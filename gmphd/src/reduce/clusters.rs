@@ -217,12 +217,15 @@ pub(super) struct Clusters {
 }
 
 impl Clusters {
+    /// The members of cluster `c`.
+    pub(super) fn get(&self, c: usize) -> &[usize] {
+        let start = c.checked_sub(1).map_or(0, |previous| self.ends[previous]);
+        &self.members[start..self.ends[c]]
+    }
+
     /// The clusters in order, each as its members.
     pub(super) fn iter(&self) -> impl ExactSizeIterator<Item = &[usize]> + '_ {
-        (0..self.ends.len()).map(|k| {
-            let start = k.checked_sub(1).map_or(0, |previous| self.ends[previous]);
-            &self.members[start..self.ends[k]]
-        })
+        (0..self.ends.len()).map(|c| self.get(c))
     }
 }
 
