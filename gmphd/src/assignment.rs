@@ -146,35 +146,105 @@ pub struct MatchedPair {
 /// mostly meets many small groups (each track near its own estimate), where this replaces
 /// one O(n³) solution by a few tiny ones.
 pub fn min_cost_matching(costs: &CostMatrix) -> Vec<MatchedPair> {
-    let groups = connected_groups(costs);
-    if groups.len() == 1 && groups[0].0.len() == costs.rows && groups[0].1.len() == costs.cols {
-        return solve_group(costs);
-    }
-    let mut pairs = Vec::new();
-    for (rows, cols) in groups {
-        if let ([row], [col]) = (rows.as_slice(), cols.as_slice()) {
-            if let Some(cost) = costs.get(*row, *col) {
-                pairs.push(MatchedPair {
-                    row: *row,
-                    col: *col,
-                    cost,
+    let allowed: Vec<(usize, usize, f64)> = (0..costs.rows)
+        .flat_map(|row| {
+            (0..costs.cols).filter_map(move |col| Some((row, col, costs.get(row, col)?)))
+        })
+        .collect();
+    matching(costs.rows, costs.cols, &allowed, Some(costs))
+}
+
+/// [`min_cost_matching`] of the matrix whose allowed pairs `costs` lists, without
+/// building the matrix: for problems where each row allows a few columns (label
+/// continuity), whose dense matrix would be mostly forbidden pairs.
+pub fn min_cost_matching_sparse(costs: &SparseCosts) -> Vec<MatchedPair> {
+    matching(costs.rows, costs.cols, &costs.allowed, None)
+}
+
+/// The allowed pairs of a `rows × cols` assignment problem, one by one; every pair not
+/// listed is forbidden.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseCosts {
+    rows: usize,
+    cols: usize,
+    allowed: Vec<(usize, usize, f64)>,
+}
+
+impl SparseCosts {
+    /// The problem of `rows` × `cols` whose allowed pairs are `allowed` as (row, column,
+    /// cost); a pair listed twice costs what its last entry says. Costs must be finite and
+    /// ≥ 0, and rows and columns in range.
+    pub fn new(
+        rows: usize,
+        cols: usize,
+        allowed: Vec<(usize, usize, f64)>,
+    ) -> Result<Self, AssignmentError> {
+        for &(row, col, value) in &allowed {
+            if row >= rows || col >= cols {
+                return Err(AssignmentError::ShapeMismatch {
+                    rows,
+                    cols,
+                    len: row * cols + col + 1,
                 });
             }
+            if !value.is_finite() || value < 0.0 {
+                return Err(AssignmentError::InvalidCost { row, col, value });
+            }
+        }
+        Ok(Self {
+            rows,
+            cols,
+            allowed,
+        })
+    }
+}
+
+/// [`min_cost_matching`] over the allowed pairs `allowed` of a `rows` × `cols` problem;
+/// `whole` is its dense matrix when the caller has it.
+fn matching(
+    rows: usize,
+    cols: usize,
+    allowed: &[(usize, usize, f64)],
+    whole: Option<&CostMatrix>,
+) -> Vec<MatchedPair> {
+    let groups = connected_groups(rows, cols, allowed);
+    if groups.len() == 1 && groups[0].0.len() == rows && groups[0].1.len() == cols {
+        return match whole {
+            Some(costs) => solve_group(costs),
+            None => solve_group(&group_matrix(&groups[0], allowed.iter())),
+        };
+    }
+    // Each node's group, to hand every allowed pair to its group.
+    let mut group_of = vec![usize::MAX; rows + cols];
+    for (g, (group_rows, group_cols)) in groups.iter().enumerate() {
+        for &row in group_rows {
+            group_of[row] = g;
+        }
+        for &col in group_cols {
+            group_of[rows + col] = g;
+        }
+    }
+    let mut allowed_of: Vec<Vec<&(usize, usize, f64)>> = vec![Vec::new(); groups.len()];
+    for pair in allowed {
+        allowed_of[group_of[pair.0]].push(pair);
+    }
+    let mut pairs = Vec::with_capacity(rows.min(cols));
+    for (group, group_allowed) in groups.iter().zip(allowed_of) {
+        if let ([row], [col]) = (group.0.as_slice(), group.1.as_slice()) {
+            // A lone allowed pair (its last listed cost).
+            let &&(_, _, cost) = group_allowed.last().expect("a group has an allowed pair");
+            pairs.push(MatchedPair {
+                row: *row,
+                col: *col,
+                cost,
+            });
             continue;
         }
-        let entries = rows
-            .iter()
-            .flat_map(|&r| cols.iter().map(move |&c| (r, c)))
-            .map(|(r, c)| costs.get(r, c))
-            .collect();
-        let group = CostMatrix {
-            rows: rows.len(),
-            cols: cols.len(),
-            entries,
-        };
-        pairs.extend(solve_group(&group).into_iter().map(|p| MatchedPair {
-            row: rows[p.row],
-            col: cols[p.col],
+        let (group_rows, group_cols) = group;
+        let costs = group_matrix(group, group_allowed.into_iter());
+        pairs.extend(solve_group(&costs).into_iter().map(|p| MatchedPair {
+            row: group_rows[p.row],
+            col: group_cols[p.col],
             cost: p.cost,
         }));
     }
@@ -182,11 +252,38 @@ pub fn min_cost_matching(costs: &CostMatrix) -> Vec<MatchedPair> {
     pairs
 }
 
+/// The dense matrix of one group (its rows and columns ascending) from its allowed pairs
+/// (a later entry of a pair overwrites an earlier one).
+fn group_matrix<'a>(
+    (group_rows, group_cols): &(Vec<usize>, Vec<usize>),
+    allowed: impl Iterator<Item = &'a (usize, usize, f64)>,
+) -> CostMatrix {
+    let position = |sorted: &[usize], node: usize| {
+        sorted
+            .binary_search(&node)
+            .expect("an allowed pair's nodes are in its group")
+    };
+    let cols = group_cols.len();
+    let mut entries = vec![None; group_rows.len() * cols];
+    for &(row, col, cost) in allowed {
+        entries[position(group_rows, row) * cols + position(group_cols, col)] = Some(cost);
+    }
+    CostMatrix {
+        rows: group_rows.len(),
+        cols,
+        entries,
+    }
+}
+
 /// The rows and columns (ascending) of each group that allowed pairs connect, ordered by
 /// their first row; rows and columns without any allowed pair are left out.
-fn connected_groups(costs: &CostMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
+fn connected_groups(
+    rows: usize,
+    cols: usize,
+    allowed: &[(usize, usize, f64)],
+) -> Vec<(Vec<usize>, Vec<usize>)> {
     // Union–find over rows 0..R and columns R..R+C.
-    let mut parent: Vec<usize> = (0..costs.rows + costs.cols).collect();
+    let mut parent: Vec<usize> = (0..rows + cols).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
             parent[i] = parent[parent[i]];
@@ -194,16 +291,12 @@ fn connected_groups(costs: &CostMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
         }
         i
     }
-    let mut linked = vec![false; costs.rows + costs.cols];
-    for row in 0..costs.rows {
-        for col in 0..costs.cols {
-            if costs.entries[row * costs.cols + col].is_some() {
-                let (a, b) = (root(&mut parent, row), root(&mut parent, costs.rows + col));
-                parent[a.max(b)] = a.min(b);
-                linked[row] = true;
-                linked[costs.rows + col] = true;
-            }
-        }
+    let mut linked = vec![false; rows + cols];
+    for &(row, col, _) in allowed {
+        let (a, b) = (root(&mut parent, row), root(&mut parent, rows + col));
+        parent[a.max(b)] = a.min(b);
+        linked[row] = true;
+        linked[rows + col] = true;
     }
     let mut group_of_root = vec![usize::MAX; parent.len()];
     let mut groups: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
@@ -214,10 +307,10 @@ fn connected_groups(costs: &CostMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
             groups.push((Vec::new(), Vec::new()));
         }
         let group = &mut groups[group_of_root[r]];
-        if node < costs.rows {
+        if node < rows {
             group.0.push(node);
         } else {
-            group.1.push(node - costs.rows);
+            group.1.push(node - rows);
         }
     }
     groups
@@ -302,6 +395,13 @@ mod tests {
             })
             .unwrap();
             let grouped = min_cost_matching(&costs);
+            let allowed = (0..rows)
+                .flat_map(|r| (0..cols).map(move |c| (r, c)))
+                .filter_map(|(r, c)| Some((r, c, costs.get(r, c)?)))
+                .rev()
+                .collect();
+            let sparse = SparseCosts::new(rows, cols, allowed).unwrap();
+            assert_eq!(min_cost_matching_sparse(&sparse), grouped, "trial {trial}");
             let whole = solve_group(&costs);
             let (count, total) = score(&grouped);
             let (whole_count, whole_total) = score(&whole);

@@ -26,7 +26,7 @@ mod writeback;
 pub use lost::report_lost_identities;
 pub use writeback::{apply_relabelling, inherited_label_sets};
 
-use crate::assignment::{min_cost_matching, AssignmentError, CostMatrix};
+use crate::assignment::{min_cost_matching_sparse, AssignmentError, SparseCosts};
 use crate::gaussian::{Label, LabelSource};
 use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
@@ -263,36 +263,38 @@ pub fn associate_labels(
     let reaching: Vec<usize> = (0..previous.len())
         .filter(|&j| previous[j].established && previous[j].reach > 0.0)
         .collect();
-    let mut entries = vec![None; previous.len() * current.len()];
+    // (previous j, current i, distance) of each allowed pair.
+    let mut allowed = Vec::with_capacity(current.len() + reaching.len());
     for (i, to) in current.iter().enumerate() {
+        let first = allowed.len();
         for j in to.inherited.labels().filter_map(|label| row_of.get(&label)) {
-            entries[j * current.len() + i] = Some(euclidean(&to.mean, &previous[*j].predicted));
+            allowed.push((*j, i, euclidean(&to.mean, &previous[*j].predicted)));
         }
         if newborn[i] {
             for &j in &reaching {
                 let from = &previous[j];
                 let d = euclidean(&to.mean, &from.predicted);
-                let entry = &mut entries[j * current.len() + i];
-                if entry.is_none() && d <= from.reach {
-                    *entry = Some(d);
+                let listed = allowed[first..].iter().any(|&(row, _, _)| row == j);
+                if !listed && d <= from.reach {
+                    allowed.push((j, i, d));
                 }
             }
         }
     }
     // A pair continuing a tentative label costs more than any total distance, so that
     // fewer tentative (more established) continuations always win; see the doc above.
-    let longest = entries.iter().flatten().fold(0.0_f64, |a, &d| a.max(d));
+    let longest = allowed.iter().fold(0.0_f64, |a, &(_, _, d)| a.max(d));
     let tentative_cost = 1.0 + longest * previous.len().min(current.len()) as f64;
-    for (j, row) in entries.chunks_mut(current.len().max(1)).enumerate() {
-        if !previous[j].established {
-            row.iter_mut().flatten().for_each(|d| *d += tentative_cost);
+    for (j, _, d) in &mut allowed {
+        if !previous[*j].established {
+            *d += tentative_cost;
         }
     }
-    let costs = CostMatrix::from_row_major(previous.len(), current.len(), entries)?;
+    let costs = SparseCosts::new(previous.len(), current.len(), allowed)?;
     let mut labels: Vec<Option<Label>> = vec![None; current.len()];
     let mut origins = vec![LabelOrigin::Fresh; current.len()];
     let mut taken = BTreeSet::new();
-    for pair in min_cost_matching(&costs) {
+    for pair in min_cost_matching_sparse(&costs) {
         labels[pair.col] = Some(previous[pair.row].label);
         origins[pair.col] = LabelOrigin::Matched { previous: pair.row };
         taken.insert(previous[pair.row].label);
