@@ -19,10 +19,9 @@
 //! them negligible next to the objects already tracked, and a label each made the dense
 //! scenario's step about a tenth slower for nothing.
 
-use std::collections::BTreeSet;
 use std::ops::Range;
 
-use crate::gaussian::{GaussianMixture, Label, LabelSource};
+use crate::gaussian::{GaussianMixture, LabelSource};
 
 /// Weight below which a newborn component's child keeps the birth label: far below any
 /// confirmation or extraction threshold, so it cannot be reported as an object of its own
@@ -41,12 +40,16 @@ pub(crate) fn separate_newborn_children(
     if newborn.is_empty() {
         return;
     }
-    let mut seen: BTreeSet<Label> = BTreeSet::new();
+    // Newborn labels are consecutive (the births of one prediction, each of which was a
+    // component): one flag each, by offset from the first.
+    let mut seen = vec![false; (newborn.end - newborn.start) as usize];
     for component in &mut mixture.components {
-        if newborn.contains(&component.label.0)
-            && !seen.insert(component.label)
-            && component.weight >= SEPARATION_MIN_WEIGHT
-        {
+        if !newborn.contains(&component.label.0) {
+            continue;
+        }
+        let offset = (component.label.0 - newborn.start) as usize;
+        let first = !std::mem::replace(&mut seen[offset], true);
+        if !first && component.weight >= SEPARATION_MIN_WEIGHT {
             component.label = labels.fresh();
         }
     }
@@ -55,7 +58,7 @@ pub(crate) fn separate_newborn_children(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gaussian::Gaussian;
+    use crate::gaussian::{Gaussian, Label};
     use nalgebra::{DMatrix, DVector};
 
     fn component(label: u64) -> Gaussian {
