@@ -31,7 +31,7 @@ use crate::gaussian::{Label, LabelSource};
 use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
 use smallvec::{smallvec, SmallVec};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 use thiserror::Error;
 
 /// Why label association failed.
@@ -233,33 +233,35 @@ pub fn associate_labels(
             .map(|p| &p.predicted)
             .chain(current.iter().map(|c| &c.mean)),
     )?;
-    let mut seen = BTreeSet::new();
-    if let Some(dup) = previous.iter().find(|p| !seen.insert(p.label)) {
-        return Err(LabelError::DuplicatePreviousLabel(dup.label.0));
+    // The previous labels, sorted, with their rows: looked up by binary search.
+    let mut rows: Vec<(Label, usize)> = previous.iter().map(|p| p.label).zip(0..).collect();
+    rows.sort_unstable();
+    // A repeated label: the one repeated first in `previous`'s order.
+    if let Some(dup) = rows
+        .windows(2)
+        .filter(|pair| pair[0].0 == pair[1].0)
+        .min_by_key(|pair| pair[1].1)
+    {
+        return Err(LabelError::DuplicatePreviousLabel(dup[0].0 .0));
     }
+    let row_of = |label: Label| {
+        rows.binary_search_by_key(&label, |&(l, _)| l)
+            .ok()
+            .map(|k| rows[k].1)
+    };
 
     // Pham (4.2): an edge exists only where the previous label is inherited — or where a
     // coasting established identity reaches an estimate of newborn or tentative descent.
-    let established: BTreeSet<Label> = previous
-        .iter()
-        .filter(|p| p.established)
-        .map(|p| p.label)
-        .collect();
     let newborn: Vec<bool> = current
         .iter()
         .map(|c| {
             !c.inherited
                 .labels()
-                .any(|label| established.contains(&label))
+                .any(|label| row_of(label).is_some_and(|j| previous[j].established))
         })
         .collect();
     // Only allowed pairs are visited: each estimate's inherited labels, looked up among the
     // previous labels, and the few coasting identities that may reach.
-    let row_of: BTreeMap<Label, usize> = previous
-        .iter()
-        .enumerate()
-        .map(|(j, p)| (p.label, j))
-        .collect();
     let reaching: Vec<usize> = (0..previous.len())
         .filter(|&j| previous[j].established && previous[j].reach > 0.0)
         .collect();
@@ -267,8 +269,8 @@ pub fn associate_labels(
     let mut allowed = Vec::with_capacity(current.len() + reaching.len());
     for (i, to) in current.iter().enumerate() {
         let first = allowed.len();
-        for j in to.inherited.labels().filter_map(|label| row_of.get(&label)) {
-            allowed.push((*j, i, euclidean(&to.mean, &previous[*j].predicted)));
+        for j in to.inherited.labels().filter_map(row_of) {
+            allowed.push((j, i, euclidean(&to.mean, &previous[j].predicted)));
         }
         if newborn[i] {
             for &j in &reaching {
