@@ -61,6 +61,8 @@ pub fn symmetrize_in_place<R: Dim, C: Dim, S: StorageMut<f64, R, C>>(
 
 /// Makes `target` a copy of `source`, reusing `target`'s buffer when the shapes agree
 /// (nalgebra's `clone_from` is the derived one, which allocates a new buffer every time).
+/// Both are contiguous, so the copy is one block (nalgebra's `copy_from` walks entry by
+/// entry, as for any strided view).
 pub(crate) fn copy_into<R: Dim, C: Dim>(
     target: &mut OMatrix<f64, R, C>,
     source: &OMatrix<f64, R, C>,
@@ -68,7 +70,7 @@ pub(crate) fn copy_into<R: Dim, C: Dim>(
     DefaultAllocator: Allocator<R, C>,
 {
     if target.shape() == source.shape() {
-        target.copy_from(source);
+        target.as_mut_slice().copy_from_slice(source.as_slice());
     } else {
         *target = source.clone();
     }

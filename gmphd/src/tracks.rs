@@ -426,8 +426,8 @@ fn set_anchor(anchor: &mut Option<Anchor>, time_s: f64, summary: &LabelSummary<'
             if a.mean.shape() == summary.mean.shape() && a.cov.shape() == summary.cov.shape() =>
         {
             a.time_s = time_s;
-            a.mean.copy_from(summary.mean);
-            a.cov.copy_from(summary.cov);
+            copy_into(&mut a.mean, summary.mean);
+            copy_into(&mut a.cov, summary.cov);
         }
         _ => {
             *anchor = Some(Anchor {
