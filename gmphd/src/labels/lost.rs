@@ -16,7 +16,7 @@
 use super::LabelSet;
 use crate::extract::Estimate;
 use crate::gaussian::{GaussianMixture, Label};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 
 /// Adds to `estimates` (sorted by `(label, copy_index)`, as extracted from `mixture`) one
 /// estimate for each heavy component (weight above `threshold`) that is no estimate's
@@ -32,26 +32,34 @@ pub fn report_lost_identities(
     threshold: f64,
     estimates: &mut Vec<Estimate>,
 ) -> usize {
-    let reported: BTreeSet<usize> = estimates.iter().map(|e| e.source).collect();
-    let mut lost: BTreeSet<Label> = identities.clone();
-    for estimate in estimates.iter() {
-        lost.remove(&estimate.label);
-    }
+    // Sorted lists and flags rather than trees: a few dozen labels, every set.
+    let mut given: Vec<(Label, u32)> = estimates.iter().map(|e| (e.label, e.copy_index)).collect();
+    given.sort_unstable();
+    let gave = |label: &Label| given.binary_search_by_key(label, |&(l, _)| l).is_ok();
+    let mut lost: Vec<Label> = identities.iter().copied().filter(|l| !gave(l)).collect();
     if lost.is_empty() {
         return 0;
     }
-    // Next copy index per label that gave an estimate.
-    let mut next_copy: BTreeMap<Label, u32> = BTreeMap::new();
+    // Next copy index per label that gave an estimate (one past its largest).
+    let mut next_copy: Vec<(Label, u32)> = given
+        .chunk_by(|a, b| a.0 == b.0)
+        .map(|run| {
+            (
+                run[0].0,
+                run.iter().map(|&(_, copy)| copy + 1).max().unwrap_or(0),
+            )
+        })
+        .collect();
+    let mut reported = vec![false; mixture.len()];
     for estimate in estimates.iter() {
-        let next = next_copy.entry(estimate.label).or_insert(0);
-        *next = (*next).max(estimate.copy_index + 1);
+        if let Some(flag) = reported.get_mut(estimate.source) {
+            *flag = true;
+        }
     }
     let mut candidates: Vec<usize> = (0..mixture.len())
         .filter(|&i| {
             let component = &mixture.components[i];
-            component.weight > threshold
-                && !reported.contains(&i)
-                && next_copy.contains_key(&component.label)
+            component.weight > threshold && !reported[i] && gave(&component.label)
         })
         .collect();
     candidates.sort_by(|&a, &b| {
@@ -63,18 +71,20 @@ pub fn report_lost_identities(
         let Some(set) = inherited.get(index) else {
             continue;
         };
-        let carried: Vec<Label> = lost.iter().copied().filter(|&l| set.contains(l)).collect();
-        if carried.is_empty() {
+        let before = lost.len();
+        lost.retain(|&l| !set.contains(l));
+        if lost.len() == before {
             continue;
         }
-        for label in carried {
-            lost.remove(&label);
-        }
         let component = &mixture.components[index];
-        let copy_index = next_copy.get_mut(&component.label).map(|next| {
-            *next += 1;
-            *next - 1
-        });
+        let copy_index = next_copy
+            .binary_search_by_key(&component.label, |&(l, _)| l)
+            .ok()
+            .map(|k| {
+                let next = &mut next_copy[k].1;
+                *next += 1;
+                *next - 1
+            });
         if let Some(owner) = estimates
             .iter_mut()
             .find(|e| e.label == component.label && e.copy_index == 0)
