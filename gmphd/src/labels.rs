@@ -323,7 +323,7 @@ pub fn associate_labels(
                 origins[i] = LabelOrigin::Inherited;
                 label
             }
-            None => fresh_unused(source, &taken),
+            None => fresh_unused(source, |label| taken.contains(&label)),
         };
         taken.insert(label);
         labels[i] = Some(label);
@@ -345,10 +345,10 @@ fn euclidean(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
 }
 
 /// A fresh label that is not already in use (a restored source could lag behind).
-fn fresh_unused(source: &mut LabelSource, taken: &BTreeSet<Label>) -> Label {
+fn fresh_unused(source: &mut LabelSource, taken: impl Fn(Label) -> bool) -> Label {
     loop {
         let label = source.fresh();
-        if !taken.contains(&label) {
+        if !taken(label) {
             return label;
         }
     }

@@ -7,7 +7,7 @@ use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 use crate::linalg::MahalanobisGate;
 use crate::sweep::IntervalHits;
 use nalgebra::DMatrix;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 /// The inherited label set of each estimate, derived from the mixture *before*
 /// reduction (Pham's `l̃ᴱ`).
@@ -131,18 +131,42 @@ pub fn apply_relabelling(
         .zip(relabelling.labels.iter().copied())
         .collect();
     labels_by_source.sort_by_key(|&(source, _)| source);
-    let mut group_rename: BTreeMap<Label, (f64, Label)> = BTreeMap::new();
-    for (estimate, &new_label) in estimates.iter().zip(&relabelling.labels) {
-        if !estimate.is_extra_copy() {
-            let entry = group_rename
-                .entry(estimate.label)
-                .or_insert((estimate.weight, new_label));
-            if estimate.weight > entry.0 {
-                *entry = (estimate.weight, new_label);
-            }
-        }
-    }
-    let claimed: BTreeSet<Label> = relabelling.labels.iter().copied().collect();
+    // Each owning estimate's old label → its new one (the heaviest owner's, the first of
+    // equal weights), sorted by old label: looked up by binary search.
+    let mut owners: Vec<(Label, f64, Label)> = estimates
+        .iter()
+        .zip(&relabelling.labels)
+        .filter(|(estimate, _)| !estimate.is_extra_copy())
+        .map(|(estimate, &new_label)| (estimate.label, estimate.weight, new_label))
+        .collect();
+    // (Stable: owners of one label stay in estimate order.)
+    owners.sort_by_key(|&(label, _, _)| label);
+    let group_rename: Vec<(Label, Label)> = owners
+        .chunk_by(|a, b| a.0 == b.0)
+        .map(|run| {
+            let heaviest =
+                run[1..].iter().fold(
+                    run[0],
+                    |best, &owner| {
+                        if owner.1 > best.1 {
+                            owner
+                        } else {
+                            best
+                        }
+                    },
+                );
+            (heaviest.0, heaviest.2)
+        })
+        .collect();
+    let renamed = |label: Label| {
+        group_rename
+            .binary_search_by_key(&label, |&(old, _)| old)
+            .ok()
+            .map(|k| group_rename[k].1)
+    };
+    let mut claimed: Vec<Label> = relabelling.labels.clone();
+    claimed.sort_unstable();
+    let is_claimed = |label: Label| claimed.binary_search(&label).is_ok();
 
     let old = std::mem::take(&mut mixture.components);
     // A split source adds a component per extra copy.
@@ -174,11 +198,11 @@ pub fn apply_relabelling(
             });
             continue;
         }
-        let label = match group_rename.get(&component.label) {
-            Some(&(_, renamed)) => renamed,
-            None if claimed.contains(&component.label) => *fresh_for
+        let label = match renamed(component.label) {
+            Some(renamed) => renamed,
+            None if is_claimed(component.label) => *fresh_for
                 .entry(component.label)
-                .or_insert_with(|| super::fresh_unused(source, &claimed)),
+                .or_insert_with(|| super::fresh_unused(source, is_claimed)),
             None => component.label,
         };
         mixture.components.push(Gaussian { label, ..component });
