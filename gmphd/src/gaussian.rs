@@ -120,13 +120,17 @@ impl GaussianMixture {
     /// (group them with `chunk_by`), in input order. One sort rather than a map of
     /// per-label lists.
     pub fn indices_by_label(&self) -> Vec<(Label, usize)> {
-        let mut by_label: Vec<(Label, usize)> = self
+        // Packed as one integer, label then index: the order of the pairs, compared at once.
+        let mut packed: Vec<u128> = self
             .iter()
             .enumerate()
-            .map(|(index, component)| (component.label, index))
+            .map(|(index, component)| u128::from(component.label.0) << 64 | index as u128)
             .collect();
-        // Distinct pairs: the unstable sort orders them as a stable one would.
-        by_label.sort_unstable();
-        by_label
+        // Distinct keys: the unstable sort orders them as a stable one would.
+        packed.sort_unstable();
+        packed
+            .into_iter()
+            .map(|key| (Label((key >> 64) as u64), key as u64 as usize))
+            .collect()
     }
 }
