@@ -28,6 +28,19 @@ where
     Unscented(UnscentedMoments<D>),
 }
 
+impl<D: Dims> Projection<D>
+where
+    DefaultAllocator: Storage<D>,
+{
+    /// Entry (r, c) of H P Hᵀ for `component` (noise not included).
+    fn z_cov(&self, component: &Gaussian, r: usize, c: usize) -> f64 {
+        match self {
+            Projection::Linear => component.cov[(r, c)],
+            Projection::Unscented(moments) => moments.cov[(r, c)],
+        }
+    }
+}
+
 /// A predicted component the sensor can detect, prepared for the update.
 pub(super) struct Detectable<'a, D: Dims>
 where
@@ -56,20 +69,16 @@ where
         noise: &DMatrix<f64>,
         gate: f64,
     ) -> Self {
-        let m = dims.measurement();
-        let mut detectable = Self {
+        // Factored before the component is assembled, so that it is built in one piece.
+        let z_cov = |r: usize, c: usize| projection.z_cov(component, r, c);
+        let innovation = Innovation::of(dims.measurement(), z_cov, noise, gate);
+        Self {
             component,
             log_prior,
             dims,
             projection,
-            innovation: Innovation {
-                lower: OMatrix::zeros_generic(m, m),
-                half_width: OVector::zeros_generic(m, U1),
-                log_peak_inverse: 0.0,
-            },
-        };
-        detectable.innovation = detectable.innovation_with(noise, gate);
-        detectable
+            innovation,
+        }
     }
 
     /// True for H = [I_m 0] (then the Joseph-form covariance update applies).
@@ -97,10 +106,7 @@ where
 
     /// Entry (r, c) of H P Hᵀ (noise not included).
     pub(super) fn z_cov(&self, r: usize, c: usize) -> f64 {
-        match &self.projection {
-            Projection::Linear => self.component.cov[(r, c)],
-            Projection::Unscented(moments) => moments.cov[(r, c)],
-        }
+        self.projection.z_cov(self.component, r, c)
     }
 
     /// The state–measurement cross-covariance P Hᵀ, n × m, column-major: entry (r, c) is at
@@ -115,9 +121,23 @@ where
 
     /// The innovation covariance H P Hᵀ + `noise`, factored, for the gate `gate`.
     pub(super) fn innovation_with(&self, noise: &DMatrix<f64>, gate: f64) -> Innovation<D> {
-        let m_dim = self.measurement_dim();
+        Innovation::of(self.measurement_dim(), |r, c| self.z_cov(r, c), noise, gate)
+    }
+}
+
+impl<D: Dims> Innovation<D>
+where
+    DefaultAllocator: Storage<D>,
+{
+    /// The innovation covariance `z_cov` + `noise` (m × m), factored, for the gate `gate`.
+    fn of(
+        m_dim: D::M,
+        z_cov: impl Fn(usize, usize) -> f64,
+        noise: &DMatrix<f64>,
+        gate: f64,
+    ) -> Self {
         let m = m_dim.value();
-        let s = |r: usize, c: usize| self.z_cov(r, c) + noise[(r, c)];
+        let s = |r: usize, c: usize| z_cov(r, c) + noise[(r, c)];
         let mut lower = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
         if !lower_cholesky(m, s, lower.as_mut_slice()) {
             // Not numerically positive definite (a tiny innovation against round-off):
