@@ -38,6 +38,18 @@ pub enum AssignmentError {
         /// The offending value.
         value: f64,
     },
+    /// An allowed pair of [`SparseCosts`] names a row or column outside the problem.
+    #[error("allowed pair ({row}, {col}) lies outside the {rows}x{cols} problem")]
+    PairOutOfRange {
+        /// Row of the offending pair.
+        row: usize,
+        /// Column of the offending pair.
+        col: usize,
+        /// Number of rows of the problem.
+        rows: usize,
+        /// Number of columns of the problem.
+        cols: usize,
+    },
     /// The entry vector does not have `rows × cols` entries.
     #[error("cost matrix declared {rows}x{cols} but holds {len} entries")]
     ShapeMismatch {
@@ -181,10 +193,11 @@ impl SparseCosts {
     ) -> Result<Self, AssignmentError> {
         for &(row, col, value) in &allowed {
             if row >= rows || col >= cols {
-                return Err(AssignmentError::ShapeMismatch {
+                return Err(AssignmentError::PairOutOfRange {
+                    row,
+                    col,
                     rows,
                     cols,
-                    len: row * cols + col + 1,
                 });
             }
             if !value.is_finite() || value < 0.0 {

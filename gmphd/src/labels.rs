@@ -244,11 +244,7 @@ pub fn associate_labels(
     {
         return Err(LabelError::DuplicatePreviousLabel(dup[0].0 .0));
     }
-    let row_of = |label: Label| {
-        rows.binary_search_by_key(&label, |&(l, _)| l)
-            .ok()
-            .map(|k| rows[k].1)
-    };
+    let row_of = |label: Label| label_position(&rows, label).map(|k| rows[k].1);
 
     // Pham (4.2): an edge exists only where the previous label is inherited — or where a
     // coasting established identity reaches an estimate of newborn or tentative descent.
@@ -342,6 +338,12 @@ fn euclidean(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
         .map(|(x, y)| (x - y) * (x - y))
         .sum::<f64>()
         .sqrt()
+}
+
+/// Where `label` is in `sorted` (ascending by label), by binary search: the lookups of one
+/// set are among a few dozen labels, where a sorted vector does better than a tree.
+fn label_position<T>(sorted: &[(Label, T)], label: Label) -> Option<usize> {
+    sorted.binary_search_by_key(&label, |(l, _)| *l).ok()
 }
 
 /// A fresh label that is not already in use (a restored source could lag behind).

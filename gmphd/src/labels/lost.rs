@@ -13,7 +13,7 @@
 //! object's own identity only. Such a cluster is reported as a further estimate, and label
 //! association ([`super::associate_labels`]) can hand it the identity back.
 
-use super::LabelSet;
+use super::{label_position, LabelSet};
 use crate::extract::Estimate;
 use crate::gaussian::{GaussianMixture, Label};
 use std::collections::BTreeSet;
@@ -35,7 +35,7 @@ pub fn report_lost_identities(
     // Sorted lists and flags rather than trees: a few dozen labels, every set.
     let mut given: Vec<(Label, u32)> = estimates.iter().map(|e| (e.label, e.copy_index)).collect();
     given.sort_unstable();
-    let gave = |label: &Label| given.binary_search_by_key(label, |&(l, _)| l).is_ok();
+    let gave = |label: &Label| label_position(&given, *label).is_some();
     let mut lost: Vec<Label> = identities.iter().copied().filter(|l| !gave(l)).collect();
     if lost.is_empty() {
         return 0;
@@ -77,14 +77,11 @@ pub fn report_lost_identities(
             continue;
         }
         let component = &mixture.components[index];
-        let copy_index = next_copy
-            .binary_search_by_key(&component.label, |&(l, _)| l)
-            .ok()
-            .map(|k| {
-                let next = &mut next_copy[k].1;
-                *next += 1;
-                *next - 1
-            });
+        let copy_index = label_position(&next_copy, component.label).map(|k| {
+            let next = &mut next_copy[k].1;
+            *next += 1;
+            *next - 1
+        });
         if let Some(owner) = estimates
             .iter_mut()
             .find(|e| e.label == component.label && e.copy_index == 0)

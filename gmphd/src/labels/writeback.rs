@@ -1,7 +1,7 @@
 //! Bridges between label association and the mixture: deriving the labels an
 //! estimate inherited, and writing the chosen labels back onto components.
 
-use super::{LabelError, LabelSet, Relabelling};
+use super::{label_position, LabelError, LabelSet, Relabelling};
 use crate::extract::Estimate;
 use crate::gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 use crate::linalg::MahalanobisGate;
@@ -144,26 +144,16 @@ pub fn apply_relabelling(
     let group_rename: Vec<(Label, Label)> = owners
         .chunk_by(|a, b| a.0 == b.0)
         .map(|run| {
-            let heaviest =
-                run[1..].iter().fold(
-                    run[0],
-                    |best, &owner| {
-                        if owner.1 > best.1 {
-                            owner
-                        } else {
-                            best
-                        }
-                    },
-                );
+            // The first of the heaviest: a later owner replaces it only when strictly heavier.
+            let heaviest = run
+                .iter()
+                .copied()
+                .reduce(|best, owner| if owner.1 > best.1 { owner } else { best })
+                .expect("a run is not empty");
             (heaviest.0, heaviest.2)
         })
         .collect();
-    let renamed = |label: Label| {
-        group_rename
-            .binary_search_by_key(&label, |&(old, _)| old)
-            .ok()
-            .map(|k| group_rename[k].1)
-    };
+    let renamed = |label: Label| label_position(&group_rename, label).map(|k| group_rename[k].1);
     let mut claimed: Vec<Label> = relabelling.labels.clone();
     claimed.sort_unstable();
     let is_claimed = |label: Label| claimed.binary_search(&label).is_ok();

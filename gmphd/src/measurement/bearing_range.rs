@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
 use super::{
     check_uniforms, diagonal_noise, finite_point, invertible_input, positive, wrapped_residual,
-    wrapped_residual_into, Detection, HeightPrior, MeasurementModel, DEFAULT_HEIGHT_STD,
+    Detection, HeightPrior, MeasurementModel, DEFAULT_HEIGHT_STD,
 };
 use crate::error::FilterError;
 
@@ -95,10 +95,6 @@ impl MeasurementModel for BearingRange {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         wrapped_residual(z, zhat, &ANGULAR)
-    }
-
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &ANGULAR, out);
     }
 
     fn wrapped_entries(&self) -> Option<&[usize]> {

@@ -2,9 +2,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3x4, Vector3, Vector4};
 
-use super::{
-    check_uniforms, diagonal_noise, positive, wrapped_residual_into, Detection, MeasurementModel,
-};
+use super::{check_uniforms, diagonal_noise, positive, Detection, MeasurementModel};
 use crate::error::{invalid, FilterError};
 
 /// Smallest |homogeneous scale| used when projecting, so that a sigma point on the
@@ -121,10 +119,6 @@ impl MeasurementModel for PinholeCamera {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         z - zhat
-    }
-
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &[], out);
     }
 
     fn wrapped_entries(&self) -> Option<&[usize]> {

@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use super::{
     check_uniforms, diagonal_noise, finite_point, invertible_input, positive, wrapped_residual,
-    wrapped_residual_into, Detection, MeasurementModel,
+    Detection, MeasurementModel,
 };
 use crate::error::{invalid, FilterError};
 
@@ -122,10 +122,6 @@ impl MeasurementModel for Lidar {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         wrapped_residual(z, zhat, &ANGULAR)
-    }
-
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &ANGULAR, out);
     }
 
     fn wrapped_entries(&self) -> Option<&[usize]> {

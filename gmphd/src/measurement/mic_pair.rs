@@ -2,10 +2,7 @@
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::{
-    check_uniforms, diagonal_noise, finite_point, positive, wrapped_residual_into, Detection,
-    MeasurementModel,
-};
+use super::{check_uniforms, diagonal_noise, finite_point, positive, Detection, MeasurementModel};
 use crate::error::{invalid, FilterError};
 
 /// tau = (|x − m2| − |x − m1|) / c + noise (Pham eq. 5.25), in seconds.
@@ -87,10 +84,6 @@ impl MeasurementModel for MicPair {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         z - zhat
-    }
-
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &[], out);
     }
 
     fn wrapped_entries(&self) -> Option<&[usize]> {

@@ -119,9 +119,13 @@ pub trait MeasurementModel: Send + Sync + Debug {
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64>;
 
     /// [`MeasurementModel::residual`] written into `out` (all three of length `dim()`):
-    /// the update's per-pair loop must not allocate. The default goes through `residual`
-    /// (and allocates); the built-in models override it.
+    /// the update's per-pair loop must not allocate. The default computes it from
+    /// [`MeasurementModel::wrapped_entries`] when the model gives them (as the built-in models
+    /// do) and otherwise goes through `residual` (and allocates).
     fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
+        if let Some(angular) = self.wrapped_entries() {
+            return wrapped_residual_into(z, zhat, angular, out);
+        }
         let r = self.residual(
             &DVector::from_column_slice(z),
             &DVector::from_column_slice(zhat),

@@ -3,8 +3,7 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, invertible_input, wrapped_residual_into, Detection,
-    HeightPrior, MeasurementModel,
+    check_uniforms, diagonal_noise, invertible_input, Detection, HeightPrior, MeasurementModel,
 };
 use crate::error::{invalid, FilterError};
 
@@ -120,10 +119,6 @@ impl MeasurementModel for PositionSensor {
 
     fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
         z - zhat
-    }
-
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        wrapped_residual_into(z, zhat, &[], out);
     }
 
     fn wrapped_entries(&self) -> Option<&[usize]> {

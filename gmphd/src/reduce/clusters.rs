@@ -71,9 +71,9 @@ impl PruneMergeCap {
         // at those within the largest reach of them; the few widest components (beyond the
         // 90th percentile of reach) would make that window wide, so they are kept aside in a
         // list of their own, searched with their own window. Merged components leave the
-        // sorted list (see
-        // `Unmerged`), so a pivot's window holds only components still to be clustered —
-        // all of them later than the pivot, as every earlier one has been a pivot or a member.
+        // sorted list (see `Unmerged`), so a pivot's window holds only components still to be
+        // clustered — all of them later than the pivot, as every earlier one has been a pivot
+        // or a member.
         let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
         let reach: Vec<f64> = kept
             .iter()
@@ -101,8 +101,10 @@ impl PruneMergeCap {
             }
         }
         // Distinct pairs: the unstable sort orders them as a stable one would.
-        sorted.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        wide.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let along_first =
+            |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        sorted.sort_unstable_by(along_first);
+        wide.sort_unstable_by(along_first);
         let mut position = vec![usize::MAX; kept.len()];
         for (k, &(_, i)) in sorted.iter().enumerate() {
             position[i] = k;
@@ -156,12 +158,11 @@ impl PruneMergeCap {
                                 .filter(|&i| later(i) && !probes[i].outside(pivot_probe)),
                         );
                     }
-                    unbounded.retain(|&i| unmerged[i]);
                     candidates.extend(
                         unbounded
                             .iter()
                             .copied()
-                            .filter(|&i| i > pivot && !probes[i].outside(pivot_probe)),
+                            .filter(|&i| later(i) && !probes[i].outside(pivot_probe)),
                     );
                     // Tested (and merged) in weight order, as a full scan would.
                     candidates.sort_unstable();
