@@ -16,7 +16,7 @@ use crate::predict::{predict_intensity, PredictionStep, Survival, SurvivalRegion
 use crate::reduce::{Ancestry, Reducer};
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
-use crate::update::{update_parts, UpdateStep};
+use crate::update::{update_parts, BirthProjections, StaticBirths, UpdateStep};
 
 /// Settings of the recursion that are not models.
 ///
@@ -88,6 +88,11 @@ pub struct GmPhdFilter {
     /// children under different measurements get labels of their own
     /// ([`crate::newborn`]).
     newborn: Range<u64>,
+    /// Indices of the static model's births in the intensity, from the latest prediction
+    /// that added them until the next update.
+    static_births: Range<usize>,
+    /// Their unscented projections per sensor, remembered for the next births.
+    birth_projections: BirthProjections,
 }
 
 impl GmPhdFilter {
@@ -126,6 +131,8 @@ impl GmPhdFilter {
             birth_owed_s: 0.0,
             last_association: Vec::new(),
             newborn: 0..0,
+            static_births: 0..0,
+            birth_projections: BirthProjections::default(),
         })
     }
 
@@ -199,6 +206,12 @@ impl GmPhdFilter {
         Ok(self)
     }
 
+    /// The remembered projections of the static births.
+    #[cfg(test)]
+    pub(crate) fn birth_projections(&self) -> &BirthProjections {
+        &self.birth_projections
+    }
+
     /// Moves the intensity out, leaving it empty until
     /// [`GmPhdFilter::set_relabelled_intensity`] puts it back.
     pub(crate) fn take_intensity(&mut self) -> GaussianMixture {
@@ -250,6 +263,7 @@ impl GmPhdFilter {
         } else {
             (Vec::new(), owed)
         };
+        let static_count = births.len();
         if let Some(adaptive) = &self.adaptive_birth {
             births.extend(adaptive.births(self.motion.as_ref(), dt, &mut self.labels)?);
         }
@@ -260,7 +274,11 @@ impl GmPhdFilter {
             dt,
             region: self.survival_region.as_ref(),
         };
+        let birth_count = births.len();
         predict_intensity(&mut self.intensity, &step, births, &mut self.labels)?;
+        // Appended last, the static births first.
+        let first_birth = self.intensity.len() - birth_count;
+        self.static_births = first_birth..first_birth + static_count;
         self.newborn = first_newborn..self.labels.peek();
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.clear();
@@ -319,9 +337,25 @@ impl GmPhdFilter {
             sensor,
             unscented: &self.config.unscented,
         };
-        let parts = update_parts(&self.intensity, &step, &gating, measurements, |_| {
-            Vec::new()
-        })?;
+        // (The remembered projections are checked against each component, so a stale range
+        // costs only the check.)
+        let range = std::mem::take(&mut self.static_births);
+        let births = match sensor.projection_fingerprint() {
+            Some(fingerprint) if !range.is_empty() => Some(StaticBirths {
+                range,
+                memo: self.birth_projections.for_sensor(fingerprint),
+            }),
+            _ => None,
+        };
+        let no_first = |_: &[(usize, f64)]| Vec::new();
+        let parts = update_parts(
+            &self.intensity,
+            &step,
+            &gating,
+            measurements,
+            no_first,
+            births,
+        )?;
         // The prior is not needed any more: its components are moved, not copied.
         let outcome = parts.moving_from(std::mem::take(&mut self.intensity));
         if let Some(adaptive) = &mut self.adaptive_birth {

@@ -25,6 +25,7 @@
 //! the output is identical, component for component, on any number of threads. Children
 //! are emitted serially: that part is allocation, which does not scale across threads.
 
+mod birth_memo;
 mod candidates;
 mod component;
 mod correction;
@@ -48,6 +49,8 @@ use correction::Correction;
 use dims::{Dims, Dynamic, Fixed, Storage};
 use pairs::{MeasurementPairs, PairRules, Scratch};
 use unscented::UnscentedScratch;
+
+pub(crate) use birth_memo::{BirthProjections, StaticBirths};
 
 /// Least work (in nanoseconds of one core, roughly) that is spread over the rayon pool:
 /// below it, handing work to another thread costs more than it saves. On the 2-vCPU machine
@@ -133,7 +136,7 @@ pub fn update_gated(
         };
         missed.iter().map(copy).collect()
     };
-    let parts = update_parts(predicted, step, gating, measurements, copies)?;
+    let parts = update_parts(predicted, step, gating, measurements, copies, None)?;
     Ok(UpdateOutcome {
         posterior: GaussianMixture::from_components(parts.children),
         association: parts.association,
@@ -178,13 +181,15 @@ impl UpdateParts {
 
 /// The work of [`update_gated`]: the detection children are appended to the components
 /// `first` makes from the missed-detection list (index, (1 − p_D) w); the caller turns
-/// that list into components, or not (see [`UpdateParts`]).
+/// that list into components, or not (see [`UpdateParts`]). `births` names the static
+/// births among the predicted components, whose projections it remembers.
 pub(crate) fn update_parts(
     predicted: &GaussianMixture,
     step: &UpdateStep<'_>,
     gating: &Gating,
     measurements: &[Measurement],
     first: impl FnOnce(&[(usize, f64)]) -> Vec<Gaussian>,
+    mut births: Option<StaticBirths<'_>>,
 ) -> Result<UpdateParts, FilterError> {
     gating.validate()?;
     for measurement in measurements {
@@ -200,22 +205,29 @@ pub(crate) fn update_parts(
             missed.push((index, missed_weight));
         }
         if p_d > 0.0 {
-            seen.push((component, (p_d * component.weight).ln()));
+            seen.push((index, component, (p_d * component.weight).ln()));
         }
     }
     let mut children = first(&missed);
 
     // The common sizes get the per-component work compiled for them (see `dims`).
     let n = step.motion.state_dim();
-    let fixed = seen.iter().all(|(c, _)| c.dim() == n);
+    let fixed = seen.iter().all(|(_, c, _)| c.dim() == n);
     let out = &mut children;
+    let work = Work {
+        step,
+        gating,
+        measurements,
+        seen: &seen,
+        births: births.as_mut(),
+    };
     let association = match (fixed.then_some(n), step.sensor.dim()) {
-        (Some(6), 2) => update_sized(Fixed::<6, 2>, step, gating, measurements, &seen, out),
-        (Some(6), 3) => update_sized(Fixed::<6, 3>, step, gating, measurements, &seen, out),
-        (Some(6), 1) => update_sized(Fixed::<6, 1>, step, gating, measurements, &seen, out),
-        (Some(5), 2) => update_sized(Fixed::<5, 2>, step, gating, measurements, &seen, out),
-        (Some(4), 2) => update_sized(Fixed::<4, 2>, step, gating, measurements, &seen, out),
-        (_, m) => update_sized(Dynamic(m), step, gating, measurements, &seen, out),
+        (Some(6), 2) => update_sized(Fixed::<6, 2>, work, out),
+        (Some(6), 3) => update_sized(Fixed::<6, 3>, work, out),
+        (Some(6), 1) => update_sized(Fixed::<6, 1>, work, out),
+        (Some(5), 2) => update_sized(Fixed::<5, 2>, work, out),
+        (Some(4), 2) => update_sized(Fixed::<4, 2>, work, out),
+        (_, m) => update_sized(Dynamic(m), work, out),
     }?;
     Ok(UpdateParts {
         missed,
@@ -224,14 +236,21 @@ pub(crate) fn update_parts(
     })
 }
 
-/// U(z) of [`update_parts`], appending the detection children to `children`, for the
-/// components `seen` (with their log(p_D w)), on the sizes `dims`.
+/// What [`update_sized`] works on.
+pub(crate) struct Work<'w, 'p, 'b> {
+    step: &'w UpdateStep<'w>,
+    gating: &'w Gating,
+    measurements: &'w [Measurement],
+    /// The detectable components: index in the predicted mixture, component, log(p_D w).
+    seen: &'w [(usize, &'p Gaussian, f64)],
+    births: Option<&'w mut StaticBirths<'b>>,
+}
+
+/// U(z) of [`update_parts`], appending the detection children to `children`, on the
+/// sizes `dims`.
 fn update_sized<'p, D: Dims>(
     dims: D,
-    step: &UpdateStep<'_>,
-    gating: &Gating,
-    measurements: &[Measurement],
-    seen: &[(&'p Gaussian, f64)],
+    work: Work<'_, 'p, '_>,
     children: &mut Vec<Gaussian>,
 ) -> Result<Vec<f64>, FilterError>
 where
@@ -241,6 +260,13 @@ where
     OMatrix<f64, D::M, D::M>: Send + Sync,
     OVector<f64, D::M>: Send + Sync,
 {
+    let Work {
+        step,
+        gating,
+        measurements,
+        seen,
+        births,
+    } = work;
     let noise = step.sensor.noise_cov();
     let gate = gating.distance_threshold(step.sensor.dim());
     let linear_dims = step
@@ -252,13 +278,16 @@ where
     } else {
         UNSCENTED_COMPONENT_NS
     };
+    let remembered = births.as_deref();
     let prepare = |scratch: &mut UnscentedScratch,
-                   seen: &(&'p Gaussian, f64)|
+                   &(index, component, log_prior): &(usize, &'p Gaussian, f64)|
      -> Result<Detectable<'p, D>, FilterError> {
-        let (component, log_prior) = *seen;
         let projection = match linear_dims {
             Some(_) => Projection::Linear,
-            None => Projection::Unscented(unscented::project(dims, component, step, scratch)?),
+            None => match remembered.and_then(|b| b.recall(dims, index, component)) {
+                Some(moments) => Projection::Unscented(moments),
+                None => Projection::Unscented(unscented::project(dims, component, step, scratch)?),
+            },
         };
         Ok(Detectable::new(
             dims, component, log_prior, projection, &noise, gate,
@@ -278,6 +307,13 @@ where
         }
         detectable
     };
+    if let Some(births) = births {
+        for (&(index, component, _), d) in seen.iter().zip(&detectable) {
+            if let Some(moments) = d.unscented_moments() {
+                births.remember(index, component, moments);
+            }
+        }
+    }
 
     let rules = PairRules {
         residual: Residual::of(step.sensor),

@@ -5,8 +5,8 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, finite_point, invertible_input, positive, wrapped_residual,
-    Detection, HeightPrior, MeasurementModel, DEFAULT_HEIGHT_STD,
+    check_uniforms, diagonal_noise, fingerprint, finite_point, invertible_input, positive,
+    wrapped_residual, Detection, HeightPrior, MeasurementModel, DEFAULT_HEIGHT_STD,
 };
 use crate::error::FilterError;
 
@@ -99,6 +99,10 @@ impl MeasurementModel for BearingRange {
 
     fn wrapped_entries(&self) -> Option<&[usize]> {
         Some(&ANGULAR)
+    }
+
+    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
+        Some(fingerprint(b"bearrang", self.position.iter().copied()))
     }
 
     /// Range: never wrapped.

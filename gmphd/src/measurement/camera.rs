@@ -2,7 +2,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3x4, Vector3, Vector4};
 
-use super::{check_uniforms, diagonal_noise, positive, Detection, MeasurementModel};
+use super::{check_uniforms, diagonal_noise, fingerprint, positive, Detection, MeasurementModel};
 use crate::error::{invalid, FilterError};
 
 /// Smallest |homogeneous scale| used when projecting, so that a sigma point on the
@@ -123,6 +123,10 @@ impl MeasurementModel for PinholeCamera {
 
     fn wrapped_entries(&self) -> Option<&[usize]> {
         Some(&[])
+    }
+
+    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
+        Some(fingerprint(b"pinhole\0", self.projection.iter().copied()))
     }
 
     /// U (pixels): never wrapped.

@@ -5,8 +5,8 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, finite_point, invertible_input, positive, wrapped_residual,
-    Detection, MeasurementModel,
+    check_uniforms, diagonal_noise, fingerprint, finite_point, invertible_input, positive,
+    wrapped_residual, Detection, MeasurementModel,
 };
 use crate::error::{invalid, FilterError};
 
@@ -126,6 +126,14 @@ impl MeasurementModel for Lidar {
 
     fn wrapped_entries(&self) -> Option<&[usize]> {
         Some(&ANGULAR)
+    }
+
+    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
+        let rotation = self.orientation.quaternion().coords;
+        Some(fingerprint(
+            b"lidar\0\0\0",
+            self.position.iter().chain(rotation.iter()).copied(),
+        ))
     }
 
     /// Range: never wrapped.

@@ -2,7 +2,10 @@
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use super::{check_uniforms, diagonal_noise, finite_point, positive, Detection, MeasurementModel};
+use super::{
+    check_uniforms, diagonal_noise, fingerprint, finite_point, positive, Detection,
+    MeasurementModel,
+};
 use crate::error::{invalid, FilterError};
 
 /// tau = (|x − m2| − |x − m1|) / c + noise (Pham eq. 5.25), in seconds.
@@ -88,6 +91,14 @@ impl MeasurementModel for MicPair {
 
     fn wrapped_entries(&self) -> Option<&[usize]> {
         Some(&[])
+    }
+
+    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
+        let numbers = self.m1.iter().chain(self.m2.iter()).copied();
+        Some(fingerprint(
+            b"micpair\0",
+            numbers.chain([self.speed_of_sound]),
+        ))
     }
 
     /// The delay: never wrapped.

@@ -142,6 +142,16 @@ pub trait MeasurementModel: Send + Sync + Debug {
         None
     }
 
+    /// What [`MeasurementModel::measure_into`] and the residual compute, as numbers: the
+    /// model's kind and every parameter `measure_into` reads, as bits. Two models with the
+    /// same fingerprint must measure every point alike. The filter remembers the unscented
+    /// projections of its static births per fingerprint, since those components, and so
+    /// their projections, are the same at every birth. `None` (the default, right for any
+    /// model) projects them afresh each time; the built-in nonlinear models give one.
+    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
+        None
+    }
+
     /// A dimension whose residual is the plain difference z_i − ẑ_i (not an angle that
     /// [`MeasurementModel::residual_into`] wraps). The gated update sorts measurements along
     /// it so that each component meets only the measurements inside its gate's extent there,
@@ -259,6 +269,14 @@ pub(crate) fn wrapped_residual_into(z: &[f64], zhat: &[f64], angular: &[usize], 
             *r = wrap_angle(*r);
         }
     }
+}
+
+/// A [`MeasurementModel::projection_fingerprint`]: the model's `kind` (a tag of its own
+/// among the models), then the bits of `parameters`.
+pub(crate) fn fingerprint(kind: &[u8; 8], parameters: impl IntoIterator<Item = f64>) -> Vec<u64> {
+    std::iter::once(u64::from_le_bytes(*kind))
+        .chain(parameters.into_iter().map(f64::to_bits))
+        .collect()
 }
 
 /// True when `z` has `dim` finite entries and `noise` is a finite `dim` × `dim` matrix:

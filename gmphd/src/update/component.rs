@@ -96,6 +96,14 @@ where
         self.dims.measurement()
     }
 
+    /// The unscented moments, for a nonlinear sensor.
+    pub(super) fn unscented_moments(&self) -> Option<&UnscentedMoments<D>> {
+        match &self.projection {
+            Projection::Linear => None,
+            Projection::Unscented(moments) => Some(moments),
+        }
+    }
+
     /// The predicted measurement ẑ.
     pub(super) fn predicted_z(&self) -> &[f64] {
         match &self.projection {

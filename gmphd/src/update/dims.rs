@@ -78,7 +78,7 @@ impl<D: Dims, A> Storage<D> for A where
 
 #[cfg(test)]
 mod tests {
-    use super::super::{update_sized, UpdateStep};
+    use super::super::{update_sized, UpdateStep, Work};
     use super::*;
     use crate::gating::Gating;
     use crate::gaussian::Label;
@@ -141,17 +141,23 @@ mod tests {
             unscented: &unscented,
         };
         let (components, measurements) = scene(sensor, centre, 1.0);
-        let seen: Vec<(&Gaussian, f64)> = components
+        let seen: Vec<(usize, &Gaussian, f64)> = components
             .iter()
-            .map(|c| (c, (0.9 * c.weight).ln()))
+            .enumerate()
+            .map(|(i, c)| (i, c, (0.9 * c.weight).ln()))
             .collect();
         let gating = Gating::default();
+        let work = || Work {
+            step: &step,
+            gating: &gating,
+            measurements: &measurements,
+            seen: &seen,
+            births: None,
+        };
         let (mut a, mut b) = (Vec::new(), Vec::new());
-        let a_association =
-            update_sized(fixed, &step, &gating, &measurements, &seen, &mut a).unwrap();
+        let a_association = update_sized(fixed, work(), &mut a).unwrap();
         let dynamic = Dynamic(sensor.dim());
-        let b_association =
-            update_sized::<Dynamic>(dynamic, &step, &gating, &measurements, &seen, &mut b).unwrap();
+        let b_association = update_sized::<Dynamic>(dynamic, work(), &mut b).unwrap();
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
         assert!(a.len() > measurements.len(), "{} children only", a.len());
         assert_eq!(a.len(), b.len());
