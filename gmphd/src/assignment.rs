@@ -221,31 +221,35 @@ fn matching(
     whole: Option<&CostMatrix>,
 ) -> Vec<MatchedPair> {
     let groups = connected_groups(rows, cols, allowed);
-    if groups.len() == 1 && groups[0].0.len() == rows && groups[0].1.len() == cols {
+    if groups.len() == 1 && groups.rows(0).len() == rows && groups.cols(0).len() == cols {
         return match whole {
             Some(costs) => solve_group(costs),
-            None => solve_group(&group_matrix(&groups[0], allowed.iter())),
+            None => solve_group(&group_matrix(groups.get(0), allowed.iter())),
         };
     }
-    // Each node's group, to hand every allowed pair to its group.
-    let mut group_of = vec![usize::MAX; rows + cols];
-    for (g, (group_rows, group_cols)) in groups.iter().enumerate() {
-        for &row in group_rows {
-            group_of[row] = g;
-        }
-        for &col in group_cols {
-            group_of[rows + col] = g;
-        }
-    }
-    let mut allowed_of: Vec<Vec<&(usize, usize, f64)>> = vec![Vec::new(); groups.len()];
+    // The allowed pairs by group, each group's in their listed order (a counting sort):
+    // group g's are `by_group[ends[g]..ends[g + 1]]`, as indices into `allowed`.
+    let mut ends = vec![0usize; groups.len() + 1];
     for pair in allowed {
-        allowed_of[group_of[pair.0]].push(pair);
+        ends[groups.of_row(pair.0) + 1] += 1;
+    }
+    for g in 0..groups.len() {
+        ends[g + 1] += ends[g];
+    }
+    let mut next = ends.clone();
+    let mut by_group = vec![0usize; allowed.len()];
+    for (i, pair) in allowed.iter().enumerate() {
+        let g = groups.of_row(pair.0);
+        by_group[next[g]] = i;
+        next[g] += 1;
     }
     let mut pairs = Vec::with_capacity(rows.min(cols));
-    for (group, group_allowed) in groups.iter().zip(allowed_of) {
-        if let ([row], [col]) = (group.0.as_slice(), group.1.as_slice()) {
+    for g in 0..groups.len() {
+        let group_allowed = by_group[ends[g]..ends[g + 1]].iter().map(|&i| &allowed[i]);
+        let (group_rows, group_cols) = groups.get(g);
+        if let ([row], [col]) = (group_rows, group_cols) {
             // A lone allowed pair (its last listed cost).
-            let &&(_, _, cost) = group_allowed.last().expect("a group has an allowed pair");
+            let &(_, _, cost) = group_allowed.last().expect("a group has an allowed pair");
             pairs.push(MatchedPair {
                 row: *row,
                 col: *col,
@@ -253,8 +257,7 @@ fn matching(
             });
             continue;
         }
-        let (group_rows, group_cols) = group;
-        let costs = group_matrix(group, group_allowed.into_iter());
+        let costs = group_matrix((group_rows, group_cols), group_allowed);
         pairs.extend(solve_group(&costs).into_iter().map(|p| MatchedPair {
             row: group_rows[p.row],
             col: group_cols[p.col],
@@ -268,7 +271,7 @@ fn matching(
 /// The dense matrix of one group (its rows and columns ascending) from its allowed pairs
 /// (a later entry of a pair overwrites an earlier one).
 fn group_matrix<'a>(
-    (group_rows, group_cols): &(Vec<usize>, Vec<usize>),
+    (group_rows, group_cols): (&[usize], &[usize]),
     allowed: impl Iterator<Item = &'a (usize, usize, f64)>,
 ) -> CostMatrix {
     let position = |sorted: &[usize], node: usize| {
@@ -288,13 +291,52 @@ fn group_matrix<'a>(
     }
 }
 
+/// The groups of [`connected_groups`], their rows and columns each in one list (most
+/// groups are a single pair, which would otherwise take two allocations each).
+struct Groups {
+    /// Every group's rows, ascending within a group; group g's end at `row_ends[g]`.
+    rows: Vec<usize>,
+    row_ends: Vec<usize>,
+    /// Likewise their columns.
+    cols: Vec<usize>,
+    col_ends: Vec<usize>,
+    /// The group of each row (`usize::MAX` for rows without an allowed pair).
+    group_of_row: Vec<usize>,
+}
+
+impl Groups {
+    fn len(&self) -> usize {
+        self.row_ends.len()
+    }
+
+    fn rows(&self, g: usize) -> &[usize] {
+        let start = g
+            .checked_sub(1)
+            .map_or(0, |previous| self.row_ends[previous]);
+        &self.rows[start..self.row_ends[g]]
+    }
+
+    fn cols(&self, g: usize) -> &[usize] {
+        let start = g
+            .checked_sub(1)
+            .map_or(0, |previous| self.col_ends[previous]);
+        &self.cols[start..self.col_ends[g]]
+    }
+
+    /// Group g's rows and columns.
+    fn get(&self, g: usize) -> (&[usize], &[usize]) {
+        (self.rows(g), self.cols(g))
+    }
+
+    /// The group of a row that has an allowed pair.
+    fn of_row(&self, row: usize) -> usize {
+        self.group_of_row[row]
+    }
+}
+
 /// The rows and columns (ascending) of each group that allowed pairs connect, ordered by
 /// their first row; rows and columns without any allowed pair are left out.
-fn connected_groups(
-    rows: usize,
-    cols: usize,
-    allowed: &[(usize, usize, f64)],
-) -> Vec<(Vec<usize>, Vec<usize>)> {
+fn connected_groups(rows: usize, cols: usize, allowed: &[(usize, usize, f64)]) -> Groups {
     // Union–find over rows 0..R and columns R..R+C.
     let mut parent: Vec<usize> = (0..rows + cols).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
@@ -311,22 +353,49 @@ fn connected_groups(
         linked[row] = true;
         linked[rows + col] = true;
     }
+    // Each linked node's group, numbered in order of first appearance (a group's first
+    // node is its first row: rows come before columns, and every group has a row).
     let mut group_of_root = vec![usize::MAX; parent.len()];
-    let mut groups: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
+    let mut group_of_node = vec![usize::MAX; parent.len()];
+    let mut count = 0;
     for node in (0..parent.len()).filter(|&n| linked[n]) {
         let r = root(&mut parent, node);
         if group_of_root[r] == usize::MAX {
-            group_of_root[r] = groups.len();
-            groups.push((Vec::new(), Vec::new()));
+            group_of_root[r] = count;
+            count += 1;
         }
-        let group = &mut groups[group_of_root[r]];
-        if node < rows {
-            group.0.push(node);
-        } else {
-            group.1.push(node - rows);
-        }
+        group_of_node[node] = group_of_root[r];
     }
-    groups
+    // Rows, then columns, placed by group (a counting sort keeps them ascending).
+    let place = |nodes: std::ops::Range<usize>, offset: usize| {
+        let mut ends = vec![0usize; count];
+        for node in nodes.clone().filter(|&n| linked[n]) {
+            ends[group_of_node[node]] += 1;
+        }
+        for g in 1..count {
+            ends[g] += ends[g - 1];
+        }
+        let mut next: Vec<usize> = (0..count)
+            .map(|g| g.checked_sub(1).map_or(0, |previous| ends[previous]))
+            .collect();
+        let mut placed = vec![0usize; ends.last().copied().unwrap_or(0)];
+        for node in nodes.filter(|&n| linked[n]) {
+            let g = group_of_node[node];
+            placed[next[g]] = node - offset;
+            next[g] += 1;
+        }
+        (placed, ends)
+    };
+    let (row_list, row_ends) = place(0..rows, 0);
+    let (col_list, col_ends) = place(rows..rows + cols, rows);
+    group_of_node.truncate(rows);
+    Groups {
+        rows: row_list,
+        row_ends,
+        cols: col_list,
+        col_ends,
+        group_of_row: group_of_node,
+    }
 }
 
 /// [`min_cost_matching`] of one whole matrix by Kuhn–Munkres.

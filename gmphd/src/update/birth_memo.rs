@@ -78,8 +78,14 @@ struct Remembered {
 impl Remembered {
     /// Whether `component` has, bit for bit, the mean and covariance projected.
     fn is_of(&self, component: &Gaussian) -> bool {
+        // Differing bits OR-ed together, without an early exit: the loop vectorises (the
+        // components compared are almost always equal).
         let same = |a: &[f64], b: &[f64]| {
-            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+            a.len() == b.len()
+                && a.iter()
+                    .zip(b)
+                    .fold(0, |differ, (x, y)| differ | (x.to_bits() ^ y.to_bits()))
+                    == 0
         };
         same(&self.mean, component.mean.as_slice()) && same(&self.cov, component.cov.as_slice())
     }
