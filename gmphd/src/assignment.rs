@@ -245,11 +245,13 @@ fn matching(
     }
     let mut pairs = Vec::with_capacity(rows.min(cols));
     for g in 0..groups.len() {
-        let group_allowed = by_group[ends[g]..ends[g + 1]].iter().map(|&i| &allowed[i]);
+        let mut group_allowed = by_group[ends[g]..ends[g + 1]].iter().map(|&i| &allowed[i]);
         let (group_rows, group_cols) = groups.get(g);
         if let ([row], [col]) = (group_rows, group_cols) {
             // A lone allowed pair (its last listed cost).
-            let &(_, _, cost) = group_allowed.last().expect("a group has an allowed pair");
+            let &(_, _, cost) = group_allowed
+                .next_back()
+                .expect("a group has an allowed pair");
             pairs.push(MatchedPair {
                 row: *row,
                 col: *col,

@@ -64,9 +64,10 @@ pub(crate) fn runs_of_each<T>(sorted: &[(f64, T)], half: f64) -> Vec<Option<(usi
 /// For each query, the items whose interval contains it, ascending (compressed rows).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct IntervalHits {
-    /// Query q's items are `items[offsets[q]..offsets[q + 1]]`.
+    /// Query q's items are `items[offsets[q]..offsets[q + 1]]` (half the bytes of `usize`
+    /// indices to zero and fill: the update's list runs to thousands of pairs).
     offsets: Vec<usize>,
-    items: Vec<usize>,
+    items: Vec<u32>,
 }
 
 impl IntervalHits {
@@ -101,8 +102,9 @@ impl IntervalHits {
             offsets[q + 1] += offsets[q];
         }
         let mut next = offsets.clone();
-        let mut items = vec![0usize; offsets[queries.len()]];
+        let mut items = vec![0u32; offsets[queries.len()]];
         for (item, &(start, end)) in runs.iter().enumerate() {
+            let item = u32::try_from(item).expect("fewer than 2^32 intervals");
             for &(_, q) in &sorted[start..end] {
                 items[next[q]] = item;
                 next[q] += 1;
@@ -112,7 +114,7 @@ impl IntervalHits {
     }
 
     /// The items whose interval contains query `q`, ascending.
-    pub(crate) fn hits(&self, q: usize) -> &[usize] {
+    pub(crate) fn hits(&self, q: usize) -> &[u32] {
         &self.items[self.offsets[q]..self.offsets[q + 1]]
     }
 }
@@ -134,7 +136,7 @@ mod tests {
         let hits = IntervalHits::build(&queries, intervals.into_iter());
         assert_eq!(hits.hits(0), &[0, 2, 3]);
         assert_eq!(hits.hits(1), &[1, 2, 3]);
-        assert_eq!(hits.hits(2), &[] as &[usize]);
+        assert_eq!(hits.hits(2), &[] as &[u32]);
         assert_eq!(hits.hits(3), &[2, 3]);
         // A zero-width interval still contains its own centre.
         assert_eq!(hits.hits(4), &[2, 3, 4]);

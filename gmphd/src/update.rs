@@ -330,7 +330,7 @@ where
         .map(|dim| CandidateIndex::build(&detectable, measurements, dim));
     let nearby = |j: usize| index.as_ref().and_then(|index| index.candidates(j));
     let pair_count: usize = (0..measurements.len())
-        .map(|j| nearby(j).map_or(detectable.len(), <[usize]>::len))
+        .map(|j| nearby(j).map_or(detectable.len(), <[u32]>::len))
         .sum();
     let score = |scratch: &mut Scratch, (j, m): (usize, &Measurement)| {
         pairs::score(&detectable, nearby(j), m, &rules, scratch)

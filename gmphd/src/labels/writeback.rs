@@ -67,7 +67,7 @@ pub fn inherited_label_sets(
             // fallback label (the heaviest in the set) is Pham's "largest weight
             // Gaussian contributing to this component".
             let mut set = LabelSet::single(estimate.label, 0.0);
-            for &c in near.hits(e) {
+            for c in near.hits(e).iter().map(|&c| c as usize) {
                 let (component, gate) = (&pre_reduction.components[c], &mut gates[c]);
                 // No repair: a singular covariance is an error here.
                 let strict = |_: &DMatrix<f64>| None;

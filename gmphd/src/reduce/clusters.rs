@@ -88,7 +88,8 @@ impl PruneMergeCap {
         };
         // Only a component whose first coordinate or reach is not finite is tested against
         // every pivot.
-        let (mut sorted, mut wide, mut unbounded) = (Vec::new(), Vec::new(), Vec::new());
+        let mut sorted = Vec::with_capacity(kept.len());
+        let (mut wide, mut unbounded) = (Vec::new(), Vec::new());
         let mut wide_window = 0.0_f64;
         for (i, g) in kept.iter().enumerate() {
             if !(first(g).is_finite() && reach[i].is_finite()) {
@@ -120,7 +121,7 @@ impl PruneMergeCap {
         let mut scratch = Vec::new();
         let mut clusters = Clusters {
             members: Vec::with_capacity(kept.len()),
-            ends: Vec::new(),
+            ends: Vec::with_capacity(kept.len()),
         };
         for pivot in 0..kept.len() {
             if !unmerged[pivot] {

@@ -54,7 +54,7 @@ impl CandidateIndex {
     }
 
     /// The candidates of measurement `j`, ascending; `None` when every component is one.
-    pub(super) fn candidates(&self, j: usize) -> Option<&[usize]> {
+    pub(super) fn candidates(&self, j: usize) -> Option<&[u32]> {
         (!self.unindexed[j]).then(|| self.hits.hits(j))
     }
 }

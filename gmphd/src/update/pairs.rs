@@ -51,7 +51,7 @@ pub(super) struct MeasurementPairs {
 /// is computed only for pairs inside the gate's bounding box.
 pub(super) fn score<D: Dims>(
     detectable: &[Detectable<'_, D>],
-    nearby: Option<&[usize]>,
+    nearby: Option<&[u32]>,
     measurement: &Measurement,
     rules: &PairRules<'_>,
     scratch: &mut Scratch,
@@ -63,7 +63,7 @@ where
     match nearby {
         Some(nearby) => gate_candidates(
             detectable,
-            nearby.iter().copied(),
+            nearby.iter().map(|&k| k as usize),
             measurement,
             rules.residual,
             rules.gate,
