@@ -4,7 +4,7 @@ use std::f64::consts::{PI, TAU};
 
 use nalgebra::allocator::Allocator;
 use nalgebra::storage::StorageMut;
-use nalgebra::{Cholesky, DMatrix, DVector, DefaultAllocator, Dim, Dyn, Matrix, OMatrix};
+use nalgebra::{Cholesky, DMatrix, DVector, DefaultAllocator, Dim, Dyn, Matrix, OMatrix, SMatrix};
 
 use crate::error::FilterError;
 
@@ -139,8 +139,11 @@ pub fn check_spd(matrix: &DMatrix<f64>, dim: usize, what: &'static str) -> Resul
 /// A matrix with non-finite entries is only symmetrized: an eigen-decomposition of
 /// it would not converge, and there is nothing meaningful to repair.
 pub fn nearest_spd(matrix: &DMatrix<f64>) -> DMatrix<f64> {
-    let symmetric = symmetrize(matrix);
-    if !symmetric.iter().all(|x| x.is_finite()) || Cholesky::new(symmetric.clone()).is_some() {
+    // `symmetrize`'s numbers, entry by entry, in one allocation instead of three.
+    let symmetric = DMatrix::from_fn(matrix.nrows(), matrix.ncols(), |r, c| {
+        (matrix[(r, c)] + matrix[(c, r)]) * 0.5
+    });
+    if !symmetric.iter().all(|x| x.is_finite()) || cholesky_succeeds(&symmetric) {
         return symmetric;
     }
     let eigen = symmetric.symmetric_eigen();
@@ -154,6 +157,23 @@ pub fn nearest_spd(matrix: &DMatrix<f64>) -> DMatrix<f64> {
     let rebuilt =
         &eigen.eigenvectors * DMatrix::from_diagonal(&clamped) * eigen.eigenvectors.transpose();
     symmetrize(&rebuilt)
+}
+
+/// Whether nalgebra's Cholesky factorisation of the square `matrix` succeeds: for the state
+/// sizes of the motion models, on a fixed-size copy (the same algorithm, so the same
+/// outcome, without the heap).
+fn cholesky_succeeds(matrix: &DMatrix<f64>) -> bool {
+    fn fixed<const N: usize>(matrix: &DMatrix<f64>) -> bool {
+        Cholesky::new(SMatrix::<f64, N, N>::from_column_slice(matrix.as_slice())).is_some()
+    }
+    match matrix.shape() {
+        (2, 2) => fixed::<2>(matrix),
+        (3, 3) => fixed::<3>(matrix),
+        (4, 4) => fixed::<4>(matrix),
+        (5, 5) => fixed::<5>(matrix),
+        (6, 6) => fixed::<6>(matrix),
+        _ => Cholesky::new(matrix.clone()).is_some(),
+    }
 }
 
 /// How many times [`robust_cholesky`] grows its diagonal jitter (by 10× each time,
@@ -354,6 +374,24 @@ pub fn log_sum_exp(terms: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_fixed_size_cholesky_decides_as_the_dynamic_one() {
+        // Positive definite, rank-deficient (round-off decides) and indefinite matrices.
+        for n in 1..=7_usize {
+            for (seed, rank) in [(1, n), (2, n.saturating_sub(1)), (3, 1), (4, n)] {
+                let a = DMatrix::from_fn(n, rank, |r, c| {
+                    ((r * 7 + c * 3 + seed * 5) % 13) as f64 * 0.37 - 2.1
+                });
+                let mut m = &a * a.transpose();
+                if seed == 4 {
+                    m[(n - 1, n - 1)] = -0.5;
+                }
+                let dynamic = Cholesky::new(m.clone()).is_some();
+                assert_eq!(cholesky_succeeds(&m), dynamic, "{m}");
+            }
+        }
+    }
 
     #[test]
     fn the_gate_factors_row_by_row_as_lower_cholesky_does() {

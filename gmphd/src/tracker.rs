@@ -17,7 +17,7 @@
 //!    each label's weight over recent sets, so a single sensor's miss does not drop a track.
 //!    A label that split off a confirmed track's is never confirmed on one set alone.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use thiserror::Error;
@@ -273,11 +273,7 @@ impl LabelledTracker {
                 None => (&track.mean, &track.cov, self.previous_time),
             };
             let (predicted, cov) = motion.predict(mean, cov, (t - since).max(0.0))?;
-            let spread = cov
-                .view((0, 0), (dims, dims))
-                .clone_owned()
-                .symmetric_eigenvalues()
-                .max();
+            let spread = largest_eigenvalue(&cov, dims);
             previous.push(PreviousEstimate {
                 label: track.label,
                 predicted: position(&predicted),
@@ -348,5 +344,42 @@ impl LabelledTracker {
         self.started = state.started;
         self.split_offs = state.split_offs;
         Ok(())
+    }
+}
+
+/// The largest eigenvalue of the leading `dims` × `dims` block of the symmetric `cov`: for the
+/// usual 2 or 3 position dimensions, of a fixed-size copy (nalgebra's algorithm either way,
+/// so the same value, without the heap).
+fn largest_eigenvalue(cov: &DMatrix<f64>, dims: usize) -> f64 {
+    let block = cov.view((0, 0), (dims, dims));
+    match dims {
+        2 => Matrix2::from_fn(|r, c| block[(r, c)])
+            .symmetric_eigenvalues()
+            .max(),
+        3 => Matrix3::from_fn(|r, c| block[(r, c)])
+            .symmetric_eigenvalues()
+            .max(),
+        _ => block.clone_owned().symmetric_eigenvalues().max(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_largest_eigenvalue_is_nalgebras_on_any_size() {
+        for dims in 1..=4 {
+            for seed in 0..5 {
+                let a = DMatrix::from_fn(6, 6, |r, c| ((r * 5 + c * 11 + seed) % 17) as f64 * 0.3);
+                let cov = &a * a.transpose();
+                let dynamic = cov
+                    .view((0, 0), (dims, dims))
+                    .clone_owned()
+                    .symmetric_eigenvalues()
+                    .max();
+                assert_eq!(largest_eigenvalue(&cov, dims).to_bits(), dynamic.to_bits());
+            }
+        }
     }
 }
