@@ -121,10 +121,12 @@ fn gate_candidates<D: Dims>(
     scratch.residual.resize(dim, 0.0);
     scratch.whitened.resize(dim, 0.0);
     let (residual, whitened) = (&mut scratch.residual[..dim], &mut scratch.whitened[..dim]);
-    let z = measurement.z.as_slice();
+    // Slices of exactly `dim` entries (a constant on the fixed sizes): the residual's loop
+    // is then unrolled.
+    let z = &measurement.z.as_slice()[..dim];
     for k in indices {
         let d = &detectable[k];
-        residual_of.write(z, d.predicted_z(), residual);
+        residual_of.write(z, &d.predicted_z()[..dim], residual);
         let log_q = match &measurement.cov {
             None => {
                 if gate < f64::INFINITY && d.innovation.outside_box(residual) {
@@ -241,7 +243,7 @@ pub(super) fn emit_children<D: Dims>(
 ) where
     DefaultAllocator: Storage<D>,
 {
-    let dim = measurement.z.len();
+    let dim = measurement_size::<D>(measurement);
     for (i, &(k, weight)) in pairs.pairs.iter().enumerate() {
         let d = &detectable[k];
         let residual = &pairs.residuals[i * dim..(i + 1) * dim];

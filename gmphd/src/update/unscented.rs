@@ -122,27 +122,39 @@ where
     let at_centre = &scratch.at_centre;
     let residual = Residual::of(step.sensor);
     let mut mean = OVector::<f64, D::M>::from_column_slice_generic(m_dim, U1, &outputs[..m]);
-    residual.write(&outputs[..m], &outputs[..m], &mut scratch.centre_residual);
+    residual.write(
+        &outputs[..m],
+        &outputs[..m],
+        &mut scratch.centre_residual[..m],
+    );
     let centred = at_centre[1..].iter().filter(|c| **c).count();
     for j in (1..points).filter(|&j| !at_centre[j]) {
         residual.write(
             &outputs[j * m..(j + 1) * m],
             &outputs[..m],
-            &mut scratch.residual,
+            &mut scratch.residual[..m],
         );
-        for (y, r) in mean.as_mut_slice().iter_mut().zip(&scratch.residual) {
+        for (y, r) in mean.as_mut_slice().iter_mut().zip(&scratch.residual[..m]) {
             *y += weights.outer * r;
         }
     }
     if centred > 0 {
         let centre_weight = centred as f64 * weights.outer;
-        for (y, r) in mean.as_mut_slice().iter_mut().zip(&scratch.centre_residual) {
+        for (y, r) in mean
+            .as_mut_slice()
+            .iter_mut()
+            .zip(&scratch.centre_residual[..m])
+        {
             *y += centre_weight * r;
         }
     }
     let mut cov = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
     let mut cross_cov = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
-    residual.write(&outputs[..m], mean.as_slice(), &mut scratch.centre_residual);
+    residual.write(
+        &outputs[..m],
+        mean.as_slice(),
+        &mut scratch.centre_residual[..m],
+    );
     // Whether point j's contribution to the cross-covariance cancels: a point at the centre
     // whose mirror image (the same column, the other sign) is at the centre too adds
     // ±w·column·dyᵀ with the same dy.
@@ -157,7 +169,7 @@ where
             residual.write(
                 &outputs[j * m..(j + 1) * m],
                 mean.as_slice(),
-                &mut scratch.residual,
+                &mut scratch.residual[..m],
             );
             &scratch.residual[..m]
         };
