@@ -95,11 +95,10 @@ where
         }
         let root_column = &root[column * n..(column + 1) * n];
         // Slices, not nalgebra's iterators: those step through a general strided layout.
-        for ((x, mean), l) in scratch
-            .point
-            .as_mut_slice()
+        // (Each of exactly n entries, a constant on the fixed sizes.)
+        for ((x, mean), l) in scratch.point.as_mut_slice()[..n]
             .iter_mut()
-            .zip(component.mean.as_slice())
+            .zip(&component.mean.as_slice()[..n])
             .zip(root_column)
         {
             *x = mean + sign * l;
