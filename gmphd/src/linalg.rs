@@ -341,15 +341,18 @@ impl MahalanobisGate {
     /// pivot is not positive.
     fn factor_row(&mut self, cov: &DMatrix<f64>, i: usize) -> bool {
         let n = cov.nrows();
-        let l = &mut self.lower;
+        // Both column-major n × n with i < n, stated up front so that the indexing below
+        // needs no checks of its own.
+        let (cov, l) = (&cov.as_slice()[..n * n], &mut self.lower[..n * n]);
+        assert!(i < n);
         for j in 0..i {
-            let mut v = cov[(i, j)];
+            let mut v = cov[i + j * n];
             for k in 0..j {
                 v -= l[i + k * n] * l[j + k * n];
             }
             l[i + j * n] = v / l[j + j * n];
         }
-        let mut diagonal = cov[(i, i)];
+        let mut diagonal = cov[i + i * n];
         for k in 0..i {
             diagonal -= l[i + k * n] * l[i + k * n];
         }
