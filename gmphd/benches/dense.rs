@@ -29,7 +29,7 @@ use gmphd::tracks::TrackManagerConfig;
 use gmphd::{
     AdaptiveBirthConfig, ConstantVelocity, Detection, FilterConfig, GmPhdFilter, LabelledTracker,
     Lidar, Measurement, MeasurementModel, PinholeCamera, PositionSensor, PruneMergeCap, Survival,
-    TrackerConfig, UnscentedParams,
+    TrackerConfig, TrackerState, UnscentedParams,
 };
 use nalgebra::{Matrix3, Matrix3x4, Vector3};
 use rand::{Rng, SeedableRng};
@@ -209,6 +209,43 @@ fn sets(
     out
 }
 
+/// Restores of the checkpoint behind each line of [`print_set_breakdown`].
+const BREAKDOWN_ROUNDS: usize = 30;
+
+/// Prints each timed set's median time over [`BREAKDOWN_ROUNDS`] restores of `checkpoint`,
+/// with its sensor, size and the mixture's size before and after: where a step's time goes
+/// (the sets that receive the birth grid's components cost about twice the others).
+fn print_set_breakdown(
+    tracker: &mut LabelledTracker,
+    checkpoint: &TrackerState,
+    timed: &[(f64, usize, Vec<Measurement>)],
+    sensors: &[Box<dyn MeasurementModel>],
+    clock: BenchClock,
+) {
+    let mut times = vec![Vec::with_capacity(BREAKDOWN_ROUNDS); timed.len()];
+    let mut sizes = vec![(0, 0); timed.len()];
+    for _ in 0..BREAKDOWN_ROUNDS {
+        tracker.restore(checkpoint.clone()).unwrap();
+        for (k, (t, index, set)) in timed.iter().enumerate() {
+            let before = tracker.filter().intensity().len();
+            let start = clock.now();
+            tracker.step(*t, sensors[*index].as_ref(), set).unwrap();
+            times[k].push(clock.since(&start));
+            sizes[k] = (before, tracker.filter().intensity().len());
+        }
+    }
+    for (k, (t, index, set)) in timed.iter().enumerate() {
+        times[k].sort();
+        println!(
+            "dense: set at {t:.4} s, sensor {index}, {} measurements, {} -> {} components: median {:?}",
+            set.len(),
+            sizes[k].0,
+            sizes[k].1,
+            times[k][BREAKDOWN_ROUNDS / 2]
+        );
+    }
+}
+
 fn bench_dense_step(c: &mut Criterion<BenchClock>) {
     let clock = BenchClock::from_env();
     let sensors = sensors();
@@ -227,6 +264,7 @@ fn bench_dense_step(c: &mut Criterion<BenchClock>) {
         tracker.filter().intensity().len(),
         tracker.confirmed_tracks().count()
     );
+    print_set_breakdown(&mut tracker, &checkpoint, &timed, &sensors, clock);
     c.bench_function("dense/async_step", |b| {
         b.iter_custom(|iters| {
             let mut total = Duration::ZERO;
