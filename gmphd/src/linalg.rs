@@ -40,7 +40,10 @@ pub fn wrap_angle(angle: f64) -> f64 {
 
 /// The symmetric part (P + Pᵀ)/2 of a square matrix.
 pub fn symmetrize(matrix: &DMatrix<f64>) -> DMatrix<f64> {
-    (matrix + matrix.transpose()) * 0.5
+    // Entry by entry, in one allocation (`(P + Pᵀ) * 0.5` would take three).
+    DMatrix::from_fn(matrix.nrows(), matrix.ncols(), |r, c| {
+        (matrix[(r, c)] + matrix[(c, r)]) * 0.5
+    })
 }
 
 /// Replaces a square matrix by its symmetric part (P + Pᵀ)/2, in place (of any storage:
@@ -139,10 +142,7 @@ pub fn check_spd(matrix: &DMatrix<f64>, dim: usize, what: &'static str) -> Resul
 /// A matrix with non-finite entries is only symmetrized: an eigen-decomposition of
 /// it would not converge, and there is nothing meaningful to repair.
 pub fn nearest_spd(matrix: &DMatrix<f64>) -> DMatrix<f64> {
-    // `symmetrize`'s numbers, entry by entry, in one allocation instead of three.
-    let symmetric = DMatrix::from_fn(matrix.nrows(), matrix.ncols(), |r, c| {
-        (matrix[(r, c)] + matrix[(c, r)]) * 0.5
-    });
+    let symmetric = symmetrize(matrix);
     if !symmetric.iter().all(|x| x.is_finite()) || cholesky_succeeds(&symmetric) {
         return symmetric;
     }

@@ -237,7 +237,7 @@ pub(crate) fn update_parts(
 }
 
 /// What [`update_sized`] works on.
-pub(crate) struct Work<'w, 'p, 'b> {
+struct Work<'w, 'p, 'b> {
     step: &'w UpdateStep<'w>,
     gating: &'w Gating,
     measurements: &'w [Measurement],
@@ -308,7 +308,11 @@ where
         detectable
     };
     if let Some(births) = births {
-        for (&(index, component, _), d) in seen.iter().zip(&detectable) {
+        // `seen` ascends by index: only its run of static births is visited.
+        let range = births.range.clone();
+        let first = seen.partition_point(|&(index, _, _)| index < range.start);
+        let in_range = seen[first..].iter().zip(&detectable[first..]);
+        for (&(index, component, _), d) in in_range.take_while(|(s, _)| s.0 < range.end) {
             if let Some(moments) = d.unscented_moments() {
                 births.remember(index, component, moments);
             }

@@ -111,11 +111,10 @@ impl StaticBirths<'_> {
     where
         DefaultAllocator: Storage<D>,
     {
-        let position = index.checked_sub(self.range.start)?;
-        if index >= self.range.end {
+        if !self.range.contains(&index) {
             return None;
         }
-        let remembered = self.memo.births.get(position)?.as_ref()?;
+        let remembered = self.memo.births.get(index - self.range.start)?.as_ref()?;
         if !remembered.is_of(component) {
             return None;
         }
@@ -186,20 +185,15 @@ mod tests {
         MeasurementModel, PinholeCamera, PruneMergeCap, Survival, UnscentedParams,
     };
 
-    /// A camera at `eye`, 15 m up, looking down at the middle of a 20 × 20 m floor.
+    /// A camera at `eye`, 15 m up, looking straight down (image x along world x, image y
+    /// along −y); at the floor it sees about 33 × 25 m.
     fn camera(eye: [f64; 2]) -> PinholeCamera {
         let eye = Vector3::new(eye[0], eye[1], 15.0);
-        let forward = (Vector3::new(10.0, 10.0, 1.0) - eye).normalize();
-        let right = forward.cross(&Vector3::z()).normalize();
-        let rotation = Matrix3::from_rows(&[
-            right.transpose(),
-            forward.cross(&right).transpose(),
-            forward.transpose(),
-        ]);
+        let rotation = Matrix3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0);
         let mut extrinsics = Matrix3x4::zeros();
         extrinsics.fixed_view_mut::<3, 3>(0, 0).copy_from(&rotation);
         extrinsics.set_column(3, &(-rotation * eye));
-        let intrinsics = Matrix3::new(500.0, 0.0, 320.0, 0.0, 500.0, 240.0, 0.0, 0.0, 1.0);
+        let intrinsics = Matrix3::new(250.0, 0.0, 320.0, 0.0, 250.0, 240.0, 0.0, 0.0, 1.0);
         let detection = Detection::new(0.9, 5.0).unwrap();
         PinholeCamera::new(
             intrinsics * extrinsics,
@@ -261,8 +255,8 @@ mod tests {
         )
         .unwrap();
         let sensors: Vec<Box<dyn MeasurementModel>> = vec![
-            Box::new(camera([-3.0, -3.0])),
-            Box::new(camera([23.0, 23.0])),
+            Box::new(camera([10.0, 10.0])),
+            Box::new(camera([6.0, 14.0])),
             Box::new(lidar),
         ];
         let mut warm = filter();
@@ -287,7 +281,7 @@ mod tests {
             warm.restore(checkpoint.clone()).unwrap();
         }
         // A sensor of the same kind elsewhere is another sensor.
-        let moved = camera([-3.0, -2.0]);
+        let moved = camera([10.0, 11.0]);
         warm.predict_to(0.4).unwrap();
         warm.update(&moved, &detections(&moved)).unwrap();
         assert_eq!(warm.birth_projections().remembered(), 4 * 16);
