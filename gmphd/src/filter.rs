@@ -50,7 +50,7 @@ pub struct FilterState {
     #[serde(default)]
     pub birth_owed_s: f64,
     /// Labels handed out by the latest prediction, whose children a further update at the
-    /// same time stamp separates ([`crate::newborn`]; absent in older checkpoints).
+    /// same time stamp separates (module `newborn`; absent in older checkpoints).
     #[serde(default)]
     pub newborn_labels: Range<u64>,
 }
