@@ -202,7 +202,7 @@ fn sets(
         for (index, sensor) in sensors.iter().enumerate() {
             let t = frame as f64 / RATE_HZ + index as f64 * PHASE_STEP_S;
             walkers.advance_to(t, rng);
-            let set = support::simulate_set(sensor.as_ref(), &walkers.positions, rng);
+            let set = support::common::simulate_set(sensor.as_ref(), &walkers.positions, rng);
             out.push((t, index, set));
         }
     }

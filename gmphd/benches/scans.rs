@@ -26,32 +26,17 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use gmphd::{
-    BearingRange, BirthTiming, ConstantVelocity, CoordinatedTurn, Detection, FilterConfig,
-    GmPhdFilter, LabelledTracker, Measurement, MeasurementModel, MixtureBirth, MotionModel,
-    PositionSensor, PruneMergeCap, Survival, TrackerConfig, UnscentedParams,
+    BearingRange, BirthTiming, CoordinatedTurn, Detection, FilterConfig, GmPhdFilter,
+    LabelledTracker, Measurement, MeasurementModel, MixtureBirth, MotionModel, PruneMergeCap,
+    Survival, TrackerConfig, UnscentedParams,
 };
 use nalgebra::{DMatrix, DVector, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use support::clock::BenchClock;
+use support::common::vo_demo;
 
 const SCANS: usize = 100;
-
-/// Linear demo targets: ([x, y, vx, vy], first scan, last scan).
-const LINEAR_TARGETS: [([f64; 4], usize, usize); 12] = [
-    ([0.0, 0.0, 0.0, -10.0], 1, 70),
-    ([400.0, -600.0, -10.0, 5.0], 1, SCANS),
-    ([-800.0, -200.0, 20.0, -5.0], 1, 70),
-    ([400.0, -600.0, -7.0, -4.0], 20, SCANS),
-    ([400.0, -600.0, -2.5, 10.0], 20, SCANS),
-    ([0.0, 0.0, 7.5, -5.0], 20, SCANS),
-    ([-800.0, -200.0, 12.0, 7.0], 40, SCANS),
-    ([-200.0, 800.0, 15.0, -10.0], 40, SCANS),
-    ([-800.0, -200.0, 3.0, 15.0], 60, SCANS),
-    ([-200.0, 800.0, -3.0, -15.0], 60, SCANS),
-    ([0.0, 0.0, -20.0, -15.0], 80, SCANS),
-    ([-200.0, 800.0, 15.0, -5.0], 80, SCANS),
-];
 
 /// The demo's turn-rate unit, 2°/s.
 const W_TURN: f64 = 2.0 * PI / 180.0;
@@ -70,16 +55,12 @@ const TURNING_TARGETS: [([f64; 5], usize, usize); 10] = [
     ([250.0, 750.0, -40.0, 25.0, W_TURN / 4.0], 60, SCANS),
 ];
 
-/// World positions per scan (index 0 is scan 1) of the linear demo.
+/// World positions per scan (index 0 is scan 1) of the linear demo (the tests' scenario).
 fn linear_truth() -> Vec<Vec<Vector3<f64>>> {
-    let mut per_scan = vec![Vec::new(); SCANS];
-    for ([x, y, vx, vy], first, last) in LINEAR_TARGETS {
-        for k in first..=last {
-            let age = (k - first + 1) as f64;
-            per_scan[k - 1].push(Vector3::new(x + vx * age, y + vy * age, 0.0));
-        }
-    }
-    per_scan
+    vo_demo::truth()
+        .iter()
+        .map(|scan| scan.iter().map(|p| Vector3::new(p[0], p[1], 0.0)).collect())
+        .collect()
 }
 
 /// World positions per scan of the nonlinear demo (noiseless coordinated turns).
@@ -115,20 +96,6 @@ fn filter(
     .unwrap()
 }
 
-fn linear_filter() -> GmPhdFilter {
-    let cov = DMatrix::from_diagonal_element(4, 4, 100.0);
-    let births = [
-        [0.0, 0.0],
-        [400.0, -600.0],
-        [-800.0, -200.0],
-        [-200.0, 800.0],
-    ]
-    .iter()
-    .map(|[x, y]| (0.03, DVector::from_vec(vec![*x, *y, 0.0, 0.0]), cov.clone()))
-    .collect();
-    filter(Box::new(ConstantVelocity::new(2, 5.0).unwrap()), births)
-}
-
 fn turning_filter() -> GmPhdFilter {
     let spread = DVector::from_vec(vec![50.0, 50.0, 50.0, 50.0, 6.0 * PI / 180.0]);
     let cov = DMatrix::from_diagonal(&spread.component_mul(&spread));
@@ -160,13 +127,7 @@ struct Demo {
 }
 
 fn demos() -> Vec<Demo> {
-    let position = PositionSensor::new(
-        &[10.0, 10.0],
-        &[-1000.0, -1000.0],
-        &[1000.0, 1000.0],
-        Detection::new(0.98, 60.0).unwrap(),
-    )
-    .unwrap();
+    let position = vo_demo::sensor();
     let radar = BearingRange::new(
         [0.0, 0.0, 0.0],
         [2.0 * PI / 180.0, 10.0],
@@ -178,7 +139,7 @@ fn demos() -> Vec<Demo> {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         truth
             .iter()
-            .map(|objects| support::simulate_set(sensor, objects, &mut rng))
+            .map(|objects| support::common::simulate_set(sensor, objects, &mut rng))
             .collect()
     };
     vec![
@@ -186,7 +147,7 @@ fn demos() -> Vec<Demo> {
             name: "vo_linear",
             scans: simulate(&position, linear_truth(), 7000),
             sensor: Box::new(position),
-            fresh_filter: linear_filter,
+            fresh_filter: vo_demo::filter,
         },
         Demo {
             name: "vo_nonlinear",

@@ -1,7 +1,7 @@
 //! Vo & Ma's linear demo scored on the `LabelledTracker`'s confirmed tracks.
 //!
-//! Scenario and filter exactly as in `vo_demo.rs` (the 12 targets of the demo's
-//! `gen_truth.m`; 2-D constant velocity, T = 1 s, σ_v = 5 m/s²; p_S 0.99; four birth
+//! Scenario and filter as in `vo_demo.rs` (`common/vo_demo.rs`: the 12 targets of the
+//! demo's `gen_truth.m`; 2-D constant velocity, T = 1 s, σ_v = 5 m/s²; p_S 0.99; four birth
 //! components of weight 0.03, P = diag(10²); σ = 10 m; p_D 0.98; 60 clutter returns
 //! per scan over [−1000, 1000]²; pruning T = 1e-5, merging U = 4, J_max = 100; 100
 //! steps, 50 seeded runs), scored with OSPA (c = 100 m, p = 1) on positions.
@@ -45,90 +45,17 @@
 
 mod common;
 
+use common::vo_demo::{filter, scan, sensor, truth, MERGE_THRESHOLD, STEPS};
 use common::{confirmed_positions, vo_ma_positions, Scores};
 use gmphd::tracks::TrackManagerConfig;
-use gmphd::{
-    BirthTiming, ConstantVelocity, Detection, FilterConfig, GmPhdFilter, LabelledTracker,
-    Measurement, MixtureBirth, PositionSensor, PruneMergeCap, Survival, TrackerConfig,
-    UnscentedParams,
-};
-use nalgebra::{DMatrix, DVector, Vector3};
+use gmphd::{LabelledTracker, TrackerConfig};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-const STEPS: usize = 100;
 const RUNS: u64 = 50;
 const OSPA_CUTOFF: f64 = 100.0;
-const MERGE_THRESHOLD: f64 = 4.0;
-
-/// (initial state [x, y, vx, vy], first step, last step) of the demo's targets
-/// (`gen_truth.m`, its [x; vx; y; vy] reordered).
-const TARGETS: [([f64; 4], usize, usize); 12] = [
-    ([0.0, 0.0, 0.0, -10.0], 1, 70),
-    ([400.0, -600.0, -10.0, 5.0], 1, STEPS),
-    ([-800.0, -200.0, 20.0, -5.0], 1, 70),
-    ([400.0, -600.0, -7.0, -4.0], 20, STEPS),
-    ([400.0, -600.0, -2.5, 10.0], 20, STEPS),
-    ([0.0, 0.0, 7.5, -5.0], 20, STEPS),
-    ([-800.0, -200.0, 12.0, 7.0], 40, STEPS),
-    ([-200.0, 800.0, 15.0, -10.0], 40, STEPS),
-    ([-800.0, -200.0, 3.0, 15.0], 60, STEPS),
-    ([-200.0, 800.0, -3.0, -15.0], 60, STEPS),
-    ([0.0, 0.0, -20.0, -15.0], 80, STEPS),
-    ([-200.0, 800.0, 15.0, -5.0], 80, STEPS),
-];
-
-/// True positions at steps 1..=STEPS (index 0 is step 1); as in the demo, the state
-/// recorded at a target's first step has already been propagated once.
-fn truth() -> Vec<Vec<DVector<f64>>> {
-    let mut per_step = vec![Vec::new(); STEPS];
-    for ([x, y, vx, vy], first, last) in TARGETS {
-        for k in first..=last {
-            let age = (k - first + 1) as f64;
-            per_step[k - 1].push(DVector::from_vec(vec![x + vx * age, y + vy * age]));
-        }
-    }
-    per_step
-}
-
-fn sensor() -> PositionSensor {
-    PositionSensor::new(
-        &[10.0, 10.0],
-        &[-1000.0, -1000.0],
-        &[1000.0, 1000.0],
-        Detection::new(0.98, 60.0).unwrap(),
-    )
-    .unwrap()
-}
 
 fn tracker() -> LabelledTracker {
-    let birth_cov = DMatrix::from_diagonal_element(4, 4, 100.0);
-    let births = [
-        [0.0, 0.0],
-        [400.0, -600.0],
-        [-800.0, -200.0],
-        [-200.0, 800.0],
-    ]
-    .iter()
-    .map(|[x, y]| {
-        (
-            0.03,
-            DVector::from_vec(vec![*x, *y, 0.0, 0.0]),
-            birth_cov.clone(),
-        )
-    })
-    .collect();
-    let filter = GmPhdFilter::new(
-        Box::new(ConstantVelocity::new(2, 5.0).unwrap()),
-        Box::new(MixtureBirth::new(4, births, BirthTiming::PerStep).unwrap()),
-        Box::new(PruneMergeCap::new(1e-5, MERGE_THRESHOLD, 100).unwrap()),
-        FilterConfig {
-            survival: Survival::PerStep(0.99),
-            unscented: UnscentedParams::default(),
-        },
-        0.0,
-    )
-    .unwrap();
     let config = TrackerConfig {
         extraction_threshold: 0.5,
         merge_threshold: MERGE_THRESHOLD,
@@ -146,16 +73,7 @@ fn tracker() -> LabelledTracker {
             max_coast_s: f64::INFINITY,
         },
     };
-    LabelledTracker::new(filter, config).unwrap()
-}
-
-/// One scan: each target detected with p_D, then Poisson clutter (the demo's order).
-fn scan(truth: &[DVector<f64>], sensor: &PositionSensor, rng: &mut ChaCha8Rng) -> Vec<Measurement> {
-    let world: Vec<Vector3<f64>> = truth
-        .iter()
-        .map(|p| Vector3::new(p[0], p[1], 0.0))
-        .collect();
-    common::simulate_set(sensor, &world, rng)
+    LabelledTracker::new(filter(), config).unwrap()
 }
 
 /// Steps at which targets are born (several at once) and die, from `TARGETS`.

@@ -30,92 +30,26 @@
 //! of the steps, mean extracted cardinality within 0.5 of the truth — and prints
 //! the measured values.
 
-use gmphd::{
-    BirthTiming, ConstantVelocity, Detection, FilterConfig, GaussianMixture, GmPhdFilter,
-    Measurement, MeasurementModel, MixtureBirth, PositionSensor, PruneMergeCap, Survival,
-    UnscentedParams,
-};
-use nalgebra::{DMatrix, DVector, Vector2};
+mod common;
+
+use common::vo_demo::{filter, sensor, CLUTTER_RATE, DETECTION_PROBABILITY, NOISE_STD, STEPS};
+use gmphd::{GaussianMixture, Measurement, MeasurementModel, PositionSensor};
+use nalgebra::{DVector, Vector2};
 use pathfinding::kuhn_munkres::kuhn_munkres_min;
 use pathfinding::matrix::Matrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, Poisson};
 
-const STEPS: usize = 100;
 const RUNS: u64 = 50;
 const OSPA_CUTOFF: f64 = 100.0;
-const DETECTION_PROBABILITY: f64 = 0.98;
-const CLUTTER_RATE: f64 = 60.0;
-const NOISE_STD: f64 = 10.0;
-
-/// (initial state [x, y, vx, vy], first step, last step) of the demo's targets.
-const TARGETS: [([f64; 4], usize, usize); 12] = [
-    ([0.0, 0.0, 0.0, -10.0], 1, 70),
-    ([400.0, -600.0, -10.0, 5.0], 1, STEPS),
-    ([-800.0, -200.0, 20.0, -5.0], 1, 70),
-    ([400.0, -600.0, -7.0, -4.0], 20, STEPS),
-    ([400.0, -600.0, -2.5, 10.0], 20, STEPS),
-    ([0.0, 0.0, 7.5, -5.0], 20, STEPS),
-    ([-800.0, -200.0, 12.0, 7.0], 40, STEPS),
-    ([-200.0, 800.0, 15.0, -10.0], 40, STEPS),
-    ([-800.0, -200.0, 3.0, 15.0], 60, STEPS),
-    ([-200.0, 800.0, -3.0, -15.0], 60, STEPS),
-    ([0.0, 0.0, -20.0, -15.0], 80, STEPS),
-    ([-200.0, 800.0, 15.0, -5.0], 80, STEPS),
-];
 
 /// True positions at steps 1..=STEPS (index 0 is step 1).
 fn truth() -> Vec<Vec<Vector2<f64>>> {
-    let mut per_step = vec![Vec::new(); STEPS];
-    for (start, first, last) in TARGETS {
-        let [x, y, vx, vy] = start;
-        for k in first..=last {
-            let age = (k - first + 1) as f64;
-            per_step[k - 1].push(Vector2::new(x + vx * age, y + vy * age));
-        }
-    }
-    per_step
-}
-
-fn sensor() -> PositionSensor {
-    PositionSensor::new(
-        &[NOISE_STD, NOISE_STD],
-        &[-1000.0, -1000.0],
-        &[1000.0, 1000.0],
-        Detection::new(DETECTION_PROBABILITY, CLUTTER_RATE).unwrap(),
-    )
-    .unwrap()
-}
-
-fn filter() -> GmPhdFilter {
-    let birth_cov = DMatrix::from_diagonal_element(4, 4, 100.0);
-    let births = [
-        [0.0, 0.0],
-        [400.0, -600.0],
-        [-800.0, -200.0],
-        [-200.0, 800.0],
-    ]
-    .iter()
-    .map(|[x, y]| {
-        (
-            0.03,
-            DVector::from_vec(vec![*x, *y, 0.0, 0.0]),
-            birth_cov.clone(),
-        )
-    })
-    .collect();
-    GmPhdFilter::new(
-        Box::new(ConstantVelocity::new(2, 5.0).unwrap()),
-        Box::new(MixtureBirth::new(4, births, BirthTiming::PerStep).unwrap()),
-        Box::new(PruneMergeCap::new(1e-5, 4.0, 100).unwrap()),
-        FilterConfig {
-            survival: Survival::PerStep(0.99),
-            unscented: UnscentedParams::default(),
-        },
-        0.0,
-    )
-    .unwrap()
+    common::vo_demo::truth()
+        .iter()
+        .map(|step| step.iter().map(|p| Vector2::new(p[0], p[1])).collect())
+        .collect()
 }
 
 /// One scan: each target detected with p_D, then Poisson clutter (the demo's order).

@@ -3,6 +3,8 @@
 //! Every test binary compiles this module and uses only part of it.
 #![allow(dead_code)]
 
+pub mod vo_demo;
+
 use gmphd::metrics::{ospa, MetricParams};
 use gmphd::{Gaussian, GaussianMixture, Label, LabelledTracker, Measurement, MeasurementModel};
 use nalgebra::{DMatrix, DVector, Vector3};
