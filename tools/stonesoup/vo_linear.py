@@ -144,21 +144,54 @@ def run_one(scans, truth, params, gate_distance):
     return ospas, right, counts, seconds, sizes
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("data", help="JSON from the vo_demo_export example")
-    parser.add_argument("--runs", type=int, default=None, help="first N runs (default all)")
+def add_gate_options(parser):
+    """--gated (the tutorial's gate, default) | --ungated | --gate-distance D."""
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--gated", action="store_true", help="missed_distance=3 (default)")
     mode.add_argument("--ungated", action="store_true", help="missed_distance=inf")
     mode.add_argument("--gate-distance", type=float, help="missed_distance=D")
-    args = parser.parse_args()
+
+
+def gate_distance_of(args):
+    """The DistanceHypothesiser's missed_distance that add_gate_options' flags ask for."""
     if args.ungated:
-        gate_distance = float("inf")
-    elif args.gate_distance is not None:
-        gate_distance = args.gate_distance
-    else:
-        gate_distance = TUTORIAL_GATE
+        return float("inf")
+    if args.gate_distance is not None:
+        return args.gate_distance
+    return TUTORIAL_GATE
+
+
+def score_runs(runs, truth, run, describe):
+    """Runs `run(scans)` (-> run_one's lists) on every run, prints each run's and the
+    overall figures; `describe` names the configuration on the RESULT line."""
+    all_ospa, all_right, all_counts, all_seconds, all_sizes = [], [], [], [], []
+    for one in runs:
+        o, r, n, s, j = run(one["scans"])
+        all_ospa += o
+        all_right += r
+        all_counts += n
+        all_seconds += s
+        all_sizes += j
+        print(f"  seed {one['seed']}: mean OSPA {np.mean(o):.2f} m, count right "
+              f"{100 * np.mean(r):.0f} %, median {1e3 * statistics.median(s):.1f} ms/scan",
+              flush=True)
+
+    true_counts = [len(objects) for _ in runs for objects in truth]
+    print(f"RESULT {describe} runs={len(runs)} "
+          f"steps={len(all_ospa)}: mean OSPA {np.mean(all_ospa):.4f} m, "
+          f"count right {100 * np.mean(all_right):.1f} %, mean count "
+          f"{np.mean(all_counts):.2f} estimated vs {np.mean(true_counts):.2f} true, "
+          f"median {1e3 * statistics.median(all_seconds):.2f} ms/scan "
+          f"(mean {1e3 * np.mean(all_seconds):.2f}), mean {np.mean(all_sizes):.1f} components")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("data", help="JSON from the vo_demo_export example")
+    parser.add_argument("--runs", type=int, default=None, help="first N runs (default all)")
+    add_gate_options(parser)
+    args = parser.parse_args()
+    gate_distance = gate_distance_of(args)
 
     with open(args.data) as f:
         data = json.load(f)
@@ -169,26 +202,8 @@ def main():
           f"{total} measurements; run 0 step 1 has {len(data['runs'][0]['scans'][0])}")
     print(f"Stone Soup GM-PHD, missed_distance={gate_distance}, {len(runs)} runs x "
           f"{len(truth)} steps", flush=True)
-
-    all_ospa, all_right, all_counts, all_seconds, all_sizes = [], [], [], [], []
-    for run in runs:
-        o, r, n, s, j = run_one(run["scans"], truth, params, gate_distance)
-        all_ospa += o
-        all_right += r
-        all_counts += n
-        all_seconds += s
-        all_sizes += j
-        print(f"  seed {run['seed']}: mean OSPA {np.mean(o):.2f} m, count right "
-              f"{100 * np.mean(r):.0f} %, median {1e3 * statistics.median(s):.1f} ms/scan",
-              flush=True)
-
-    true_counts = [len(objects) for _ in runs for objects in truth]
-    print(f"RESULT missed_distance={gate_distance} runs={len(runs)} "
-          f"steps={len(all_ospa)}: mean OSPA {np.mean(all_ospa):.4f} m, "
-          f"count right {100 * np.mean(all_right):.1f} %, mean count "
-          f"{np.mean(all_counts):.2f} estimated vs {np.mean(true_counts):.2f} true, "
-          f"median {1e3 * statistics.median(all_seconds):.2f} ms/scan "
-          f"(mean {1e3 * np.mean(all_seconds):.2f}), mean {np.mean(all_sizes):.1f} components")
+    score_runs(runs, truth, lambda scans: run_one(scans, truth, params, gate_distance),
+               f"missed_distance={gate_distance}")
 
 
 if __name__ == "__main__":

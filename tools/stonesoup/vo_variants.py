@@ -18,7 +18,10 @@ Stone Soup 1.9.1's departures (read from its source):
           the heaviest component's covariance and mean, fixed for the whole cluster.
 
 Usage: python vo_variants.py DATA.json [--runs N] [--gate-distance D] [--variants V ...]
+                             [--demo linear|nonlinear]
 with VARIANT among: tutorial cap prune births merge vo (default: all of them).
+--demo nonlinear runs vo_nonlinear.py's filter (unscented, Vo & Ma's process noise) on
+the JSON of the vo_nonlinear_export example instead.
 """
 
 import argparse
@@ -30,6 +33,7 @@ from stonesoup.mixturereducer.gaussianmixture import GaussianMixtureReducer
 from stonesoup.types.state import TaggedWeightedGaussianState
 
 import vo_linear
+import vo_nonlinear
 
 
 class VoReducer(GaussianMixtureReducer):
@@ -85,13 +89,15 @@ def main():
     parser.add_argument("--gate-distance", type=float, default=vo_linear.TUTORIAL_GATE)
     parser.add_argument("--variants", nargs="+",
                         default=["tutorial", "cap", "prune", "births", "merge", "vo"])
+    parser.add_argument("--demo", choices=("linear", "nonlinear"), default="linear")
     args = parser.parse_args()
+    demo = vo_linear if args.demo == "linear" else vo_nonlinear
     with open(args.data) as f:
         data = json.load(f)
     truth, runs = data["truth"], data["runs"][:args.runs]
 
-    vo_linear.GaussianMixtureReducer = VoReducer  # build_filter() now makes a VoReducer
-    tutorial_births = vo_linear.births
+    demo.GaussianMixtureReducer = VoReducer  # build_filter() now makes a VoReducer
+    tutorial_births = demo.births
     for variant in args.variants:
         undo = {"cap", "prune", "births", "merge"} if variant == "vo" else {variant} - {"tutorial"}
         VoReducer.undo = undo
@@ -99,15 +105,20 @@ def main():
         if "births" in undo:
             # Untagged birth components of weight w / p_S: the updater's p_S factor then
             # gives exactly Vo's p_D w q and (1 - p_D) w, and the missed term is kept.
-            params["birth_weight"] = params["birth_weight"] / params["p_survival"]
-            vo_linear.births = lambda p, t: [
+            if args.demo == "linear":
+                params["birth_weight"] = params["birth_weight"] / params["p_survival"]
+            else:
+                params["births"] = [dict(b, weight=b["weight"] / params["p_survival"])
+                                    for b in params["births"]]
+            demo.births = lambda p, t: [
                 TaggedWeightedGaussianState.from_state(b, tag=str(uuid.uuid4()))
                 for b in tutorial_births(p, t)]
         else:
-            vo_linear.births = tutorial_births
+            demo.births = tutorial_births
         ospas, right, counts = [], [], []
         for run in runs:
-            o, r, n, _, _ = vo_linear.run_one(run["scans"], truth, params, args.gate_distance)
+            extra = () if args.demo == "linear" else ("vo",)  # nonlinear: Vo & Ma's noise
+            o, r, n, _, _ = demo.run_one(run["scans"], truth, params, args.gate_distance, *extra)
             ospas += o
             right += r
             counts += n

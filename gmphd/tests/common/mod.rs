@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod vo_demo;
+pub mod vo_nonlinear;
 
 use gmphd::metrics::{ospa, MetricParams};
 use gmphd::{Gaussian, GaussianMixture, Label, LabelledTracker, Measurement, MeasurementModel};
