@@ -26,21 +26,12 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use gmphd::{GmPhdFilter, LabelledTracker, Measurement, MeasurementModel, TrackerConfig};
-use nalgebra::Vector3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use support::clock::BenchClock;
 use support::common::{vo_demo, vo_nonlinear};
 
 const SCANS: usize = 100;
-
-/// World positions per scan (index 0 is scan 1) of the linear demo (the tests' scenario).
-fn linear_truth() -> Vec<Vec<Vector3<f64>>> {
-    vo_demo::truth()
-        .iter()
-        .map(|scan| scan.iter().map(|p| Vector3::new(p[0], p[1], 0.0)).collect())
-        .collect()
-}
 
 /// One scenario: its sensor, its simulated scans and how to build a fresh filter.
 struct Demo {
@@ -53,17 +44,16 @@ struct Demo {
 fn demos() -> Vec<Demo> {
     let position = vo_demo::sensor();
     let radar = vo_nonlinear::sensor();
-    let simulate = |sensor: &dyn MeasurementModel, truth: Vec<Vec<Vector3<f64>>>, seed| {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        truth
-            .iter()
-            .map(|objects| support::common::simulate_set(sensor, objects, &mut rng))
-            .collect()
-    };
+    // The linear demo's run as `tests/exp_vo_demo.rs`'s first (seed 7000).
+    let mut rng = ChaCha8Rng::seed_from_u64(7000);
+    let linear_scans = vo_demo::truth()
+        .iter()
+        .map(|objects| vo_demo::scan(objects, &position, &mut rng))
+        .collect();
     vec![
         Demo {
             name: "vo_linear",
-            scans: simulate(&position, linear_truth(), 7000),
+            scans: linear_scans,
             sensor: Box::new(position),
             fresh_filter: vo_demo::filter,
         },

@@ -23,13 +23,11 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use std::time::Instant;
-
 use common::vo_demo::{
     filter, scan, sensor, truth, BIRTH_POSITIONS, CLUTTER_RATE, DETECTION_PROBABILITY,
     MERGE_THRESHOLD, NOISE_STD, STEPS,
 };
-use gmphd::{Measurement, PositionSensor};
+use gmphd::Measurement;
 use nalgebra::DVector;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -37,34 +35,6 @@ use serde_json::json;
 
 /// Monte-Carlo runs of `tests/exp_vo_demo.rs`, seeded `7000 + run` there.
 const RUNS: u64 = 50;
-
-/// Runs the bare filter on the exported sets: Vo & Ma's extraction, OSPA (c = 100, p = 1),
-/// median time per scan.
-fn score(truth: &[Vec<DVector<f64>>], runs: &[Vec<Vec<Measurement>>], sensor: &PositionSensor) {
-    let mut scores = common::Scores::new(100.0, 1.0);
-    let mut times = Vec::with_capacity(runs.len() * STEPS);
-    for scans in runs {
-        let mut filter = filter();
-        for (index, (objects, measurements)) in truth.iter().zip(scans).enumerate() {
-            let start = Instant::now();
-            filter.predict_to((index + 1) as f64).unwrap();
-            filter.update(sensor, measurements).unwrap();
-            filter.reduce();
-            times.push(start.elapsed().as_secs_f64());
-            scores.record(objects, &common::vo_ma_positions(filter.intensity(), 2));
-        }
-    }
-    times.sort_by(f64::total_cmp);
-    println!(
-        "our GmPhdFilter, Vo & Ma extraction: {}",
-        scores.summary("m")
-    );
-    println!(
-        "  median {:.1} µs per scan (predict + update + reduce) over {} scans",
-        1e6 * times[times.len() / 2],
-        times.len()
-    );
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -115,6 +85,6 @@ fn main() {
         xy(&runs[0][0][0].z)
     );
     if args.iter().any(|a| a == "--score") {
-        score(&truth, &runs, &sensor);
+        common::bare_filter::print_scores(&truth, &runs, &sensor, filter);
     }
 }

@@ -27,7 +27,6 @@
 mod common;
 
 use std::f64::consts::PI;
-use std::time::Instant;
 
 use common::vo_nonlinear::{
     filter, scans, sensor, truth, truth_states, ACCEL_NOISE_STD, BIRTHS, BIRTH_STD, CLUTTER_RATE,
@@ -38,37 +37,9 @@ use gmphd::{BearingRange, LabelledTracker, Measurement, TrackerConfig, Unscented
 use nalgebra::DVector;
 use serde_json::json;
 
-/// Runs the bare filter on the exported sets: Vo & Ma's extraction, OSPA (c = 100, p = 1),
-/// median time per scan.
+/// `--score`: our bare filter, then our tracker, on the exported sets.
 fn score(truth: &[Vec<DVector<f64>>], runs: &[Vec<Vec<Measurement>>], sensor: &BearingRange) {
-    let mut scores = common::Scores::new(100.0, 1.0);
-    let mut times = Vec::with_capacity(runs.len() * STEPS);
-    let mut sizes = 0usize;
-    for scans in runs {
-        let mut filter = filter();
-        for (index, (objects, measurements)) in truth.iter().zip(scans).enumerate() {
-            let start = Instant::now();
-            filter.predict_to((index + 1) as f64).unwrap();
-            filter.update(sensor, measurements).unwrap();
-            filter.reduce();
-            times.push(start.elapsed().as_secs_f64());
-            scores.record(objects, &common::vo_ma_positions(filter.intensity(), 2));
-            sizes += filter.intensity().len();
-        }
-    }
-    let mean = times.iter().sum::<f64>() / times.len() as f64;
-    times.sort_by(f64::total_cmp);
-    println!(
-        "our GmPhdFilter, Vo & Ma extraction: {}",
-        scores.summary("m")
-    );
-    println!(
-        "  median {:.1} µs per scan (mean {:.1}; predict + update + reduce) over {} scans, mean {:.1} components",
-        1e6 * times[times.len() / 2],
-        1e6 * mean,
-        times.len(),
-        sizes as f64 / times.len() as f64
-    );
+    common::bare_filter::print_scores(truth, runs, sensor, filter);
     score_tracker(truth, runs, sensor);
 }
 

@@ -60,18 +60,24 @@ def build_filter(params, gate_distance):
     sigma = params["measurement_sigma"]
     measurement_model = LinearGaussian(
         ndim_state=4, mapping=(0, 2), noise_covar=np.diag([sigma**2, sigma**2]))
-    kalman_updater = KalmanUpdater(measurement_model)
     (x0, x1), (y0, y1) = params["region"]
     # Clutter intensity kappa = rate / area, uniform over the region: 60 / 2000^2 m^-2.
     clutter_spatial_density = params["clutter_rate"] / ((x1 - x0) * (y1 - y0))
+    return (measurement_model, *tutorial_filter(
+        KalmanPredictor(transition_model), KalmanUpdater(measurement_model),
+        clutter_spatial_density, params, gate_distance))
+
+
+def tutorial_filter(predictor, kalman_updater, clutter_spatial_density, params, gate_distance):
+    """The GM-PHD tutorial's hypothesiser, PHD updater and reducer around a predictor and a
+    Kalman-type updater (linear or unscented): (hypothesiser, updater, reducer)."""
     updater = PHDUpdater(
         kalman_updater,
         clutter_spatial_density=clutter_spatial_density,
         prob_detection=params["p_detection"],
         prob_survival=params["p_survival"])
     base_hypothesiser = DistanceHypothesiser(
-        KalmanPredictor(transition_model), kalman_updater, Mahalanobis(),
-        missed_distance=gate_distance)
+        predictor, kalman_updater, Mahalanobis(), missed_distance=gate_distance)
     hypothesiser = GaussianMixtureHypothesiser(base_hypothesiser, order_by_detection=True)
     # Vo & Ma's T = 1e-5, U = 4 (squared Mahalanobis, as Stone Soup's merge_threshold),
     # J_max = 100.
@@ -79,7 +85,7 @@ def build_filter(params, gate_distance):
         prune_threshold=params["prune"], pruning=True,
         merge_threshold=params["merge"], merging=True,
         max_number_components=params["max_components"], truncating=True)
-    return measurement_model, hypothesiser, updater, reducer
+    return hypothesiser, updater, reducer
 
 
 def births(params, timestamp):
@@ -117,9 +123,17 @@ def ospa(truth, estimates, c=100.0):
 
 
 def run_one(scans, truth, params, gate_distance):
-    """One Monte-Carlo run; returns per-step OSPA, count-right flags, estimated counts,
-    per-scan seconds and mixture sizes."""
-    measurement_model, hypothesiser, updater, reducer = build_filter(params, gate_distance)
+    """One Monte-Carlo run of the linear demo (see run_scans)."""
+    return run_scans(scans, truth, params, build_filter(params, gate_distance), births,
+                     lambda z: np.array([[z[0]], [z[1]]]))
+
+
+def run_scans(scans, truth, params, parts, births_at, measurement_vector):
+    """One Monte-Carlo run of the filter `parts` (build_filter's four), with the births
+    `births_at(params, timestamp)` and each measurement as `measurement_vector(z)`;
+    returns per-step OSPA, count-right flags, estimated counts, per-scan seconds and
+    mixture sizes."""
+    measurement_model, hypothesiser, updater, reducer = parts
     start = datetime(2000, 1, 1)
     reduced_states = []  # the intensity starts empty, as in the Rust tests
     ospas, right, counts, seconds, sizes = [], [], [], [], []
@@ -127,10 +141,10 @@ def run_one(scans, truth, params, gate_distance):
         timestamp = start + timedelta(seconds=k * params["dt_s"])
         # A list, not the tutorial's set, so that runs are reproducible (set order
         # follows object addresses); the reducer sorts by weight either way.
-        detections = [Detection(np.array([[x], [y]]), timestamp=timestamp,
-                                measurement_model=measurement_model) for x, y in scan]
+        detections = [Detection(measurement_vector(z), timestamp=timestamp,
+                                measurement_model=measurement_model) for z in scan]
         t0 = time.perf_counter()
-        current_state = reduced_states + births(params, timestamp)
+        current_state = reduced_states + births_at(params, timestamp)
         hypotheses = hypothesiser.hypothesise(
             current_state, detections, timestamp=timestamp, order_by_detection=True)
         updated_states = updater.update(hypotheses)

@@ -31,27 +31,19 @@ Usage: python vo_nonlinear.py DATA.json [--runs N] [--gated | --ungated | --gate
 
 import argparse
 import json
-import time
-from datetime import datetime, timedelta
 
 import numpy as np
 from scipy.linalg import block_diag
 
-from stonesoup.hypothesiser.distance import DistanceHypothesiser
-from stonesoup.hypothesiser.gaussianmixture import GaussianMixtureHypothesiser
-from stonesoup.measures import Mahalanobis
-from stonesoup.mixturereducer.gaussianmixture import GaussianMixtureReducer
 from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
 from stonesoup.models.transition.nonlinear import ConstantTurn
 from stonesoup.predictor.kalman import UnscentedKalmanPredictor
 from stonesoup.types.angle import Bearing
 from stonesoup.types.array import CovarianceMatrix, StateVector
-from stonesoup.types.detection import Detection
 from stonesoup.types.state import TaggedWeightedGaussianState
 from stonesoup.updater.kalman import UnscentedKalmanUpdater
-from stonesoup.updater.pointprocess import PHDUpdater
 
-from vo_linear import add_gate_options, extract, gate_distance_of, ospa, score_runs
+from vo_linear import add_gate_options, gate_distance_of, run_scans, score_runs, tutorial_filter
 
 
 class VoMaConstantTurn(ConstantTurn):
@@ -88,19 +80,8 @@ def build_filter(params, gate_distance, noise):
     # [-pi, pi) x [0, max_range]: 20 / (2 pi 2000) per rad m.
     (b0, b1), (r0, r1) = params["clutter_region_bearing_range"]
     clutter_spatial_density = params["clutter_rate"] / ((b1 - b0) * (r1 - r0))
-    updater = PHDUpdater(
-        updater_ukf,
-        clutter_spatial_density=clutter_spatial_density,
-        prob_detection=params["p_detection"],
-        prob_survival=params["p_survival"])
-    base_hypothesiser = DistanceHypothesiser(
-        predictor, updater_ukf, Mahalanobis(), missed_distance=gate_distance)
-    hypothesiser = GaussianMixtureHypothesiser(base_hypothesiser, order_by_detection=True)
-    reducer = GaussianMixtureReducer(
-        prune_threshold=params["prune"], pruning=True,
-        merge_threshold=params["merge"], merging=True,
-        max_number_components=params["max_components"], truncating=True)
-    return measurement_model, hypothesiser, updater, reducer
+    return (measurement_model, *tutorial_filter(
+        predictor, updater_ukf, clutter_spatial_density, params, gate_distance))
 
 
 def births(params, timestamp):
@@ -114,29 +95,9 @@ def births(params, timestamp):
 
 
 def run_one(scans, truth, params, gate_distance, noise):
-    """One Monte-Carlo run; per-step OSPA, count-right flags, counts, seconds, sizes."""
-    measurement_model, hypothesiser, updater, reducer = build_filter(
-        params, gate_distance, noise)
-    start = datetime(2000, 1, 1)
-    reduced_states = []
-    ospas, right, counts, seconds, sizes = [], [], [], [], []
-    for k, (scan, objects) in enumerate(zip(scans, truth), start=1):
-        timestamp = start + timedelta(seconds=k * params["dt_s"])
-        detections = [Detection(StateVector([Bearing(b), r]), timestamp=timestamp,
-                                measurement_model=measurement_model) for b, r in scan]
-        t0 = time.perf_counter()
-        current_state = reduced_states + births(params, timestamp)
-        hypotheses = hypothesiser.hypothesise(
-            current_state, detections, timestamp=timestamp, order_by_detection=True)
-        updated_states = updater.update(hypotheses)
-        reduced_states = list(reducer.reduce(updated_states))
-        seconds.append(time.perf_counter() - t0)
-        estimates = extract(reduced_states)
-        ospas.append(ospa(objects, estimates, params["ospa_c"]))
-        right.append(len(estimates) == len(objects))
-        counts.append(len(estimates))
-        sizes.append(len(reduced_states))
-    return ospas, right, counts, seconds, sizes
+    """One Monte-Carlo run of the nonlinear demo (vo_linear.run_scans)."""
+    return run_scans(scans, truth, params, build_filter(params, gate_distance, noise), births,
+                     lambda z: StateVector([Bearing(z[0]), z[1]]))
 
 
 def main():

@@ -96,7 +96,8 @@ def main():
         data = json.load(f)
     truth, runs = data["truth"], data["runs"][:args.runs]
 
-    demo.GaussianMixtureReducer = VoReducer  # build_filter() now makes a VoReducer
+    # Both demos build their reducer in vo_linear.tutorial_filter(), which now makes a VoReducer.
+    vo_linear.GaussianMixtureReducer = VoReducer
     tutorial_births = demo.births
     for variant in args.variants:
         undo = {"cap", "prune", "births", "merge"} if variant == "vo" else {variant} - {"tutorial"}

@@ -3,6 +3,7 @@
 //! Every test binary compiles this module and uses only part of it.
 #![allow(dead_code)]
 
+pub mod bare_filter;
 pub mod vo_demo;
 pub mod vo_nonlinear;
 
