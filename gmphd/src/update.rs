@@ -14,9 +14,9 @@
 //! **Cost.** Per component, once: the projection into measurement space (a slice, or an
 //! unscented transform) and the Cholesky factor of the innovation covariance. With a gate,
 //! the measurements are sorted along one unwrapped dimension and each component meets only
-//! those within its gate's extent there (module `update::candidates`). Per remaining pair: a residual, a
-//! bounding-box test of the gate and, inside it, a forward substitution that stops as soon
-//! as the distance leaves the gate — no allocation. Gain and posterior
+//! those within its gate's extent there (module `update::candidates`). Per remaining pair: a
+//! residual, a bounding-box test of the gate and, inside it, a forward substitution that
+//! stops as soon as the distance leaves the gate — no allocation. Gain and posterior
 //! covariance do not depend on z: they are computed once per component that has a kept
 //! pair and shared by its children; only an emitted child allocates (its mean and its copy
 //! of the covariance). Components are prepared, measurements scored and corrections
@@ -113,8 +113,8 @@ pub fn update_with_association(
 /// reports each measurement's total association weight.
 ///
 /// p_D is evaluated at each component's predicted position, or averaged over its spread
-/// where that is outside the view (module `update::detection`); components the sensor cannot see pass
-/// through unchanged. Updated components keep their parent's
+/// where that is outside the view (module `update::detection`); components the sensor
+/// cannot see pass through unchanged. Updated components keep their parent's
 /// label. A measurement's own covariance replaces the sensor noise for it. An
 /// empty set only applies the missed-detection term. Components of exactly zero
 /// weight (underflow, p_D = 1 misses) are dropped since they carry no intensity.
