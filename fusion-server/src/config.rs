@@ -10,6 +10,9 @@ use serde::Deserialize;
 use thiserror::Error;
 pub use transport::ZenohConfig;
 
+mod ingest;
+pub use ingest::{IngestConfig, OutputConfig};
+
 /// Why the configuration could not be used.
 #[derive(Debug, Error)]
 pub enum ConfigError {
@@ -26,7 +29,7 @@ pub enum ConfigError {
     },
 }
 
-fn invalid(key: &str, reason: impl Into<String>) -> ConfigError {
+pub(crate) fn invalid(key: &str, reason: impl Into<String>) -> ConfigError {
     ConfigError::Invalid {
         key: key.to_string(),
         reason: reason.into(),
@@ -47,7 +50,7 @@ pub struct ServerConfig {
     pub tracks: TracksConfig,
     /// Static sensor descriptors (protocol JSON form) that override or stand in for published ones.
     pub sensors: Vec<serde_json::Value>,
-    /// Reordering and admission of incoming sets.
+    /// Admission of incoming sets and the history kept for late ones.
     pub ingest: IngestConfig,
     /// Publication of track sets.
     pub output: OutputConfig,
@@ -207,47 +210,6 @@ impl Default for TracksConfig {
     }
 }
 
-/// `[ingest]`: how incoming sets are admitted and ordered.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct IngestConfig {
-    /// Sets are held this long (wall clock) so that sets of slower sensors can be put in `stamp` order.
-    pub reorder_window_ms: u64,
-    /// A set stamped more than this ahead of the server's clock is rejected.
-    pub max_future_s: f64,
-    /// Capacity of the queue between Zenoh and the filter; overflow is counted.
-    pub queue_capacity: usize,
-    /// Sets per second one sensor may send before the excess is dropped and counted (flood guard).
-    pub max_rate_hz: f64,
-}
-
-impl Default for IngestConfig {
-    fn default() -> Self {
-        Self {
-            reorder_window_ms: 150,
-            max_future_s: 2.0,
-            queue_capacity: 4096,
-            max_rate_hz: 500.0,
-        }
-    }
-}
-
-/// `[output]`: publication of tracks.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct OutputConfig {
-    /// At most this many `TrackSet` puts per second (the latest state is always published).
-    pub max_publish_hz: f64,
-}
-
-impl Default for OutputConfig {
-    fn default() -> Self {
-        Self {
-            max_publish_hz: 30.0,
-        }
-    }
-}
-
 /// `[checkpoint]`: filter state saved atomically so that track ids survive restarts.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -334,20 +296,15 @@ impl ServerConfig {
         }
         self.filter.validate()?;
         self.tracks.validate()?;
-        let i = &self.ingest;
-        positive("ingest.max_future_s", i.max_future_s)?;
-        positive("ingest.max_rate_hz", i.max_rate_hz)?;
-        if i.queue_capacity == 0 {
-            return Err(invalid("ingest.queue_capacity", "must be at least 1"));
-        }
-        positive("output.max_publish_hz", self.output.max_publish_hz)?;
+        self.ingest.validate()?;
+        self.output.validate()?;
         positive("checkpoint.interval_s", self.checkpoint.interval_s)?;
         positive("checkpoint.max_age_s", self.checkpoint.max_age_s)?;
         Ok(())
     }
 }
 
-fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
+pub(crate) fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {

@@ -1,5 +1,5 @@
-//! The engine: admission of incoming sets, the reorder buffer, the filter, counters and the
-//! current `TrackSet`/`Status`.
+//! The engine: admission of incoming sets, the timeline that processes them in stamp order at
+//! once (rolling back for late ones), counters and the current `TrackSet`/`Status`.
 //!
 //! Synchronous and driven by the clock its caller passes in, so the live service (wall clock)
 //! and `replay` (the largest stamp seen) run exactly the same code.
@@ -7,58 +7,27 @@
 use std::sync::Arc;
 
 use protocol::{
-    LatencyMs, MeasurementSet, Rejected, SensorDescriptor, SensorId, Site, Status, TrackSet,
-    WireFormat, PROTOCOL_VERSION,
+    MeasurementSet, Rejected, SensorDescriptor, SensorId, Site, Status, TrackSet, WireFormat,
+    PROTOCOL_VERSION,
 };
-use thiserror::Error;
 
-use crate::config::ServerConfig;
-use crate::latency::LatencyWindow;
-use crate::reorder::{Refused, ReorderBuffer};
+use crate::config::{IngestConfig, ServerConfig};
+use crate::latency::SharedLatency;
+use crate::processing::{FilterRun, Pending, SetTimeline, Tie};
+pub use crate::rejection::Rejection;
 use crate::sensors::{Learned, SensorRegistry};
+use crate::timeline::{BatchReport, Incoming, Key, TimelineConfig};
 use crate::tracker::{Tracker, TrackerState};
 
-/// Why an incoming set or descriptor was not admitted. Each is counted in `Status`.
-#[derive(Debug, Error)]
-pub enum Rejection {
-    /// The payload could not be decoded.
-    #[error("undecodable payload: {0}")]
-    Undecodable(String),
-    /// The set or descriptor broke a validation rule.
-    #[error("invalid {what} from {sensor}: {reason}")]
-    Invalid {
-        /// `set` or `descriptor`.
-        what: &'static str,
-        /// The sensor it named (or the key's sensor).
-        sensor: String,
-        /// The rule it broke.
-        reason: String,
-    },
-    /// No descriptor is known for the sensor; `.1` counts its sets so far (ask for the
-    /// descriptor on the first one).
-    #[error("set from unknown sensor {0} (set {1} without a descriptor)")]
-    UnknownSensor(SensorId, u64),
-    /// Older than what was already processed.
-    #[error("late set from {sensor}: stamp {stamp} < {released} already processed")]
-    Late {
-        /// The sensor.
-        sensor: SensorId,
-        /// Its stamp.
-        stamp: f64,
-        /// The newest processed stamp.
-        released: f64,
-    },
-    /// The reorder buffer is full.
-    #[error("reorder buffer full, set from {0} dropped")]
-    Overflow(SensorId),
-}
-
-/// A set waiting in the reorder buffer.
-#[derive(Debug)]
-struct Pending {
-    set: MeasurementSet,
-    /// Arrival time on the caller's clock (for latency).
-    arrived: f64,
+/// What one [`Engine::step`] produced.
+#[derive(Debug, Default)]
+pub struct StepOutput {
+    /// The track set after each (re)processed set, in stamp order; after a rollback it starts
+    /// with the corrected answers for sets processed before.
+    pub tracks: Vec<TrackSet>,
+    /// Arrival times (caller's clock) of the sets admitted since the last step that were
+    /// processed: their latency ends when `tracks` is published.
+    pub arrivals: Vec<f64>,
 }
 
 /// Admission, ordering and filtering of measurement sets for one site.
@@ -69,12 +38,16 @@ pub struct Engine {
     live: bool,
     started: f64,
     sensors: SensorRegistry,
-    buffer: ReorderBuffer<Pending>,
+    /// Admitted sets not processed yet: processed together by the next `step`.
+    waiting: Vec<Incoming<Tie, Pending>>,
+    timeline: SetTimeline,
     tracker: Tracker,
     rejected: Rejected,
-    latency: LatencyWindow,
+    latency: SharedLatency,
     last_tracks: TrackSet,
     track_seq: u64,
+    /// Sequence number of the next settled track set (offline replay).
+    settled_seq: u64,
 }
 
 impl Engine {
@@ -82,21 +55,19 @@ impl Engine {
     pub fn new(config: ServerConfig, now: f64, live: bool) -> anyhow::Result<Self> {
         let site = Site::new(&config.site.name)?;
         let tracker = Tracker::new(&config)?;
-        let buffer = ReorderBuffer::new(
-            config.ingest.reorder_window_ms as f64 / 1000.0,
-            config.ingest.queue_capacity,
-        );
         let mut engine = Self {
             last_tracks: empty_tracks(&site, 0, 0.0),
             site,
             live,
             started: now,
             sensors: SensorRegistry::new(),
-            buffer,
+            waiting: Vec::new(),
+            timeline: SetTimeline::new(timeline_config(&config.ingest), !live),
             tracker,
             rejected: Rejected::default(),
-            latency: LatencyWindow::new(1024),
+            latency: SharedLatency::new(1024),
             track_seq: 0,
+            settled_seq: 0,
             config,
         };
         for (i, value) in engine.config.sensors.clone().into_iter().enumerate() {
@@ -197,7 +168,8 @@ impl Engine {
         self.sensors.get(sensor).is_some()
     }
 
-    /// Validates and queues a decoded set (replay enters here).
+    /// Validates and queues a decoded set (replay enters here); the next [`Engine::step`]
+    /// processes it.
     pub fn admit_decoded(
         &mut self,
         key_sensor: Option<&SensorId>,
@@ -205,140 +177,188 @@ impl Engine {
         now: f64,
     ) -> Result<(), Rejection> {
         let name = set.sensor.clone();
-        let invalid = |engine: &mut Self, reason: String| {
-            engine.rejected.invalid += 1;
-            if let Some(sensor) = engine.sensors.get_mut(&name) {
-                sensor.counters.invalid += 1;
-            }
-            Rejection::Invalid {
-                what: "set",
-                sensor: name.to_string(),
-                reason,
-            }
-        };
-        if self.sensors.get(&name).is_none() {
+        let Some(sensor) = self.sensors.get_mut(&name) else {
             self.rejected.unknown_sensor += 1;
             let count = self.sensors.note_unknown(&name);
             return Err(Rejection::UnknownSensor(name, count));
-        }
-        if let Some(sensor) = self.sensors.get_mut(&name) {
-            sensor.counters.received += 1;
-        }
-        if let Some(key_sensor) = key_sensor {
-            if *key_sensor != name {
-                return Err(invalid(
-                    self,
-                    format!("published on the key of sensor {key_sensor}"),
-                ));
-            }
-        }
-        if let Err(e) = set.validate() {
-            return Err(invalid(self, e.to_string()));
-        }
-        let descriptor = self.sensors.get(&name).map(|s| s.descriptor.clone());
-        if let Some(descriptor) = descriptor {
-            if let Err(e) = set.validate_against(&descriptor) {
-                return Err(invalid(self, e.to_string()));
-            }
-        }
-        if self.live {
-            if let Err(e) = set.validate_stamp(now, self.config.ingest.max_future_s) {
-                return Err(invalid(self, e.to_string()));
-            }
-        }
-        let max_rate = self.config.ingest.max_rate_hz;
-        let within_rate = self
-            .sensors
-            .get_mut(&name)
-            .is_some_and(|s| s.admit_rate(now, max_rate));
-        if !within_rate {
-            return Err(invalid(
-                self,
-                format!("more than {max_rate} sets per second (flood guard)"),
-            ));
+        };
+        sensor.counters.received += 1;
+        if let Err(reason) = self.check_set(key_sensor, &set, now) {
+            self.count_invalid(&name);
+            return Err(Rejection::Invalid {
+                what: "set",
+                sensor: name.to_string(),
+                reason,
+            });
         }
         if let Some(sensor) = self.sensors.get_mut(&name) {
             sensor.check_seq(set.seq);
         }
-        let stamp = set.stamp;
-        match self.buffer.push(stamp, now, Pending { set, arrived: now }) {
-            Ok(()) => Ok(()),
-            Err(Refused::Late { stamp, released }) => {
-                self.rejected.late += 1;
-                if let Some(sensor) = self.sensors.get_mut(&name) {
-                    sensor.counters.late += 1;
-                }
-                Err(Rejection::Late {
-                    sensor: name,
-                    stamp,
-                    released,
-                })
-            }
-            Err(Refused::Full) => {
-                self.rejected.invalid += 1;
-                if let Some(sensor) = self.sensors.get_mut(&name) {
-                    sensor.counters.invalid += 1;
-                }
-                Err(Rejection::Overflow(name))
-            }
+        self.queue(set, now)
+    }
+
+    /// The validation rules a set must pass, in order; the first broken one is returned.
+    fn check_set(
+        &mut self,
+        key_sensor: Option<&SensorId>,
+        set: &MeasurementSet,
+        now: f64,
+    ) -> Result<(), String> {
+        if let Some(key_sensor) = key_sensor.filter(|k| **k != set.sensor) {
+            return Err(format!("published on the key of sensor {key_sensor}"));
+        }
+        set.validate().map_err(|e| e.to_string())?;
+        if let Some(sensor) = self.sensors.get(&set.sensor) {
+            set.validate_against(&sensor.descriptor)
+                .map_err(|e| e.to_string())?;
+        }
+        if self.live {
+            set.validate_stamp(now, self.config.ingest.max_future_s)
+                .map_err(|e| e.to_string())?;
+        }
+        let max_rate = self.config.ingest.max_rate_hz;
+        let within_rate = self
+            .sensors
+            .get_mut(&set.sensor)
+            .is_some_and(|s| s.admit_rate(now, max_rate));
+        if !within_rate {
+            return Err(format!(
+                "more than {max_rate} sets per second (flood guard)"
+            ));
+        }
+        Ok(())
+    }
+
+    /// Queues a valid set for the next step, unless it is older than the history kept.
+    fn queue(&mut self, set: MeasurementSet, now: f64) -> Result<(), Rejection> {
+        let name = set.sensor.clone();
+        if let Some(horizon) = self.timeline.horizon().filter(|h| set.stamp < *h) {
+            self.count_late(&name);
+            return Err(Rejection::Late {
+                sensor: name,
+                stamp: set.stamp,
+                horizon,
+            });
+        }
+        if self.waiting.len() >= self.config.ingest.queue_capacity {
+            self.count_invalid(&name);
+            return Err(Rejection::Overflow(name));
+        }
+        let key = Key::new(set.stamp, (name, set.seq));
+        let item = Pending { set, arrived: now };
+        self.waiting.push(Incoming { key, item });
+        Ok(())
+    }
+
+    fn count_invalid(&mut self, name: &SensorId) {
+        self.rejected.invalid += 1;
+        if let Some(sensor) = self.sensors.get_mut(name) {
+            sensor.counters.invalid += 1;
         }
     }
 
-    /// Processes every set whose reorder window has passed by `now`, in stamp order.
-    /// Returns the track set after each processed set.
-    pub fn step(&mut self, now: f64) -> Vec<TrackSet> {
-        let ready = self.buffer.pop_ready(now);
-        self.process(ready, now)
+    fn count_late(&mut self, name: &SensorId) {
+        self.rejected.late += 1;
+        if let Some(sensor) = self.sensors.get_mut(name) {
+            sensor.counters.late += 1;
+        }
     }
 
-    /// Processes everything still waiting (shutdown, end of a replay).
-    pub fn drain(&mut self, now: f64) -> Vec<TrackSet> {
-        let ready = self.buffer.drain();
-        self.process(ready, now)
-    }
-
-    /// When the next waiting set becomes ready, on the caller's clock.
-    pub fn next_ready_at(&self) -> Option<f64> {
-        self.buffer.next_ready_at()
-    }
-
-    fn process(&mut self, ready: Vec<(f64, Pending)>, now: f64) -> Vec<TrackSet> {
-        let mut out = Vec::with_capacity(ready.len());
-        for (stamp, pending) in ready {
-            let Some(sensor) = self.sensors.get(&pending.set.sensor) else {
-                continue;
-            };
-            let model = sensor.model.clone();
-            match self.tracker.process(stamp, model.as_ref(), &pending.set) {
-                Ok(tracks) => {
-                    if let Some(sensor) = self.sensors.get_mut(&pending.set.sensor) {
-                        sensor.counters.processed += 1;
-                        sensor.last_stamp = Some(stamp);
-                    }
-                    self.track_seq += 1;
-                    let mut set = empty_tracks(&self.site, self.track_seq, stamp);
-                    set.expected_count = self.tracker.expected_count();
-                    set.tracks = tracks;
-                    self.latency
-                        .record((now - pending.arrived).max(0.0) * 1000.0);
-                    self.last_tracks = set.clone();
-                    out.push(set);
-                }
-                Err(e) => {
-                    tracing::warn!(sensor = %pending.set.sensor, error = %e, "set not processed");
-                    self.rejected.invalid += 1;
-                    if let Some(sensor) = self.sensors.get_mut(&pending.set.sensor) {
-                        sensor.counters.invalid += 1;
-                    }
+    /// Processes every set admitted since the last step, in stamp order, rolling the filter back
+    /// first if one of them is older than what was processed (one rollback for the whole batch).
+    pub fn step(&mut self, _now: f64) -> StepOutput {
+        let batch = std::mem::take(&mut self.waiting);
+        if batch.is_empty() {
+            return StepOutput::default();
+        }
+        let mut arrivals: Vec<(Key<Tie>, f64)> = batch
+            .iter()
+            .map(|i| (i.key.clone(), i.item.arrived))
+            .collect();
+        arrivals.sort_by(|a, b| a.0.cmp(&b.0));
+        let mut processed = Vec::with_capacity(batch.len());
+        let mut run = FilterRun::new(&mut self.tracker, &self.sensors, &self.site);
+        let report = self.timeline.process_batch(batch, &mut run, |p| {
+            processed.push((p.key.clone(), p.output.cloned(), p.fresh));
+        });
+        self.count_batch(&report);
+        let mut out = StepOutput::default();
+        for (key, output, fresh) in processed {
+            if fresh {
+                self.count_fresh(&key, output.is_some());
+                if let Ok(i) = arrivals.binary_search_by(|(k, _)| k.cmp(&key)) {
+                    out.arrivals.push(arrivals[i].1);
                 }
             }
+            if let Some(mut tracks) = output {
+                self.track_seq += 1;
+                tracks.seq = self.track_seq;
+                out.tracks.push(tracks);
+            }
+        }
+        if let Some(latest) = self.timeline.latest_output() {
+            self.last_tracks = latest.clone();
+            self.last_tracks.seq = self.track_seq;
         }
         out
     }
 
-    /// Records a latency sample measured outside the engine (publication after rate limiting).
-    pub fn record_latency(&mut self, millis: f64) {
-        self.latency.record(millis);
+    fn count_fresh(&mut self, key: &Key<Tie>, used: bool) {
+        let (name, _) = &key.tie;
+        if !used {
+            self.count_invalid(name);
+        } else if let Some(sensor) = self.sensors.get_mut(name) {
+            sensor.counters.processed += 1;
+            let stamp = key.stamp();
+            sensor.last_stamp = Some(sensor.last_stamp.map_or(stamp, |s| s.max(stamp)));
+        }
+    }
+
+    fn count_batch(&mut self, report: &BatchReport<Tie>) {
+        if let Some(cause) = &report.rollback_cause {
+            if let Some(sensor) = self.sensors.get_mut(&cause.tie.0) {
+                sensor.counters.rollbacks += 1;
+            }
+        }
+        for key in &report.reprocessed {
+            if let Some(sensor) = self.sensors.get_mut(&key.tie.0) {
+                sensor.counters.reprocessed += 1;
+            }
+        }
+        for key in &report.too_late {
+            self.count_late(&key.tie.0);
+        }
+        for key in &report.duplicates {
+            tracing::warn!(sensor = %key.tie.0, seq = key.tie.1, "duplicate set dropped");
+            self.count_invalid(&key.tie.0);
+        }
+    }
+
+    /// The final track sets that no late set can change any more, in stamp order and numbered
+    /// in that order (offline replay: the answer does not depend on the order sets were read in).
+    pub fn take_settled(&mut self) -> Vec<TrackSet> {
+        let settled = self.timeline.take_settled();
+        self.number_settled(settled)
+    }
+
+    /// Settles everything (end of a replay): every remaining final track set, as
+    /// [`Engine::take_settled`].
+    pub fn settle_all(&mut self) -> Vec<TrackSet> {
+        let settled = self.timeline.settle_all();
+        self.number_settled(settled)
+    }
+
+    fn number_settled(&mut self, mut settled: Vec<TrackSet>) -> Vec<TrackSet> {
+        for tracks in &mut settled {
+            self.settled_seq += 1;
+            tracks.seq = self.settled_seq;
+        }
+        settled
+    }
+
+    /// Where the publisher records each set's latency at publication (reported in `Status`).
+    pub fn latency(&self) -> SharedLatency {
+        self.latency.clone()
     }
 
     /// The latest track set.
@@ -357,10 +377,7 @@ impl Engine {
             tracks: self.last_tracks.tracks.len() as u64,
             sensors: self.sensors.iter().map(|s| s.status()).collect(),
             rejected: self.rejected.clone(),
-            latency_ms: LatencyMs {
-                p50: (!self.latency.is_empty()).then(|| self.latency.percentile(0.5)),
-                p99: (!self.latency.is_empty()).then(|| self.latency.percentile(0.99)),
-            },
+            latency_ms: self.latency.summary(),
         }
     }
 
@@ -374,13 +391,20 @@ impl Engine {
         let last = state.last_time();
         self.tracker.restore(state)?;
         if let Some(stamp) = last {
-            self.buffer.set_released(stamp);
+            self.timeline.reset_at(stamp);
         }
         Ok(())
     }
 }
 
-fn empty_tracks(site: &Site, seq: u64, stamp: f64) -> TrackSet {
+fn timeline_config(ingest: &IngestConfig) -> TimelineConfig {
+    TimelineConfig {
+        max_lateness_s: ingest.max_lateness_s,
+        snapshot_interval_s: ingest.snapshot_interval_s,
+    }
+}
+
+pub(crate) fn empty_tracks(site: &Site, seq: u64, stamp: f64) -> TrackSet {
     TrackSet {
         version: PROTOCOL_VERSION,
         site: site.clone(),

@@ -1,6 +1,6 @@
-//! The engine thread of the live service: admits what the Zenoh callbacks hand over,
-//! processes what the reorder buffer releases, refreshes the snapshot the queryables answer
-//! from, hands track sets to the publisher and writes checkpoints.
+//! The engine thread of the live service: admits what the Zenoh callbacks hand over (everything
+//! that arrived while it was busy, as one batch), processes it, refreshes the snapshot the
+//! queryables answer from, hands track sets to the publisher and writes checkpoints.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
@@ -8,13 +8,14 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use protocol::{SensorId, Status, TrackSet, WireFormat};
-use tokio::sync::{mpsc, watch};
+use tokio::sync::mpsc;
 
 use crate::checkpoint::{self, Checkpoint};
 use crate::clock;
 use crate::config::ServerConfig;
 use crate::engine::{Engine, Rejection};
 use crate::limiter::LogLimiter;
+use crate::publisher::Outbox;
 
 /// What Zenoh callbacks hand to the engine thread.
 pub(crate) enum Inbound {
@@ -86,7 +87,7 @@ pub(crate) fn engine_loop(
     rx: Receiver<Inbound>,
     snapshot: Arc<Mutex<Snapshot>>,
     overflow: Arc<AtomicU64>,
-    tracks_tx: watch::Sender<Option<(TrackSet, f64)>>,
+    outbox: Outbox,
     ask_tx: mpsc::UnboundedSender<SensorId>,
 ) {
     let mut limiter = LogLimiter::new(5.0);
@@ -94,11 +95,8 @@ pub(crate) fn engine_loop(
     let mut reported_overflow = 0;
     let mut shutting_down = false;
     while !shutting_down {
-        let now = clock::now();
-        let wait = engine
-            .next_ready_at()
-            .map_or(0.05, |at| (at - now).clamp(0.0, 0.05));
-        let first = match rx.recv_timeout(Duration::from_secs_f64(wait)) {
+        // Wake now and then without input, for the snapshot, the overflow report and checkpoints.
+        let first = match rx.recv_timeout(Duration::from_millis(50)) {
             Ok(msg) => Some(msg),
             Err(RecvTimeoutError::Timeout) => None,
             Err(RecvTimeoutError::Disconnected) => Some(Inbound::Shutdown),
@@ -113,13 +111,9 @@ pub(crate) fn engine_loop(
             }
         }
         let now = clock::now();
-        let sets = if shutting_down {
-            engine.drain(now)
-        } else {
-            engine.step(now)
-        };
-        if let Some(last) = sets.last() {
-            let _ = tracks_tx.send(Some((last.clone(), now)));
+        let step = engine.step(now);
+        if let Some(last) = step.tracks.last() {
+            outbox.offer(last.clone(), &step.arrivals);
         }
         let dropped = overflow.load(Ordering::Relaxed);
         if dropped > reported_overflow {

@@ -1,6 +1,9 @@
 //! Latency percentiles over a sliding window of recent samples.
 
 use std::collections::VecDeque;
+use std::sync::{Arc, Mutex};
+
+use protocol::LatencyMs;
 
 /// Keeps the last `capacity` latency samples (milliseconds) and answers percentiles.
 #[derive(Debug, Clone)]
@@ -48,6 +51,36 @@ impl LatencyWindow {
         sorted.sort_by(f64::total_cmp);
         let rank = (q.clamp(0.0, 1.0) * sorted.len() as f64).ceil() as usize;
         sorted[rank.saturating_sub(1).min(sorted.len() - 1)]
+    }
+}
+
+/// A [`LatencyWindow`] shared between the publisher, which records each set's latency when the
+/// tracks it updated are put on the wire, and the engine, which reports it in `Status`.
+#[derive(Debug, Clone)]
+pub struct SharedLatency(Arc<Mutex<LatencyWindow>>);
+
+impl SharedLatency {
+    /// A shared window of the last `capacity` samples.
+    pub fn new(capacity: usize) -> Self {
+        Self(Arc::new(Mutex::new(LatencyWindow::new(capacity))))
+    }
+
+    /// Records the latency of sets that arrived at `arrivals` and were published at `now`
+    /// (seconds on one clock).
+    pub fn record_published(&self, arrivals: &[f64], now: f64) {
+        let mut window = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        for arrived in arrivals {
+            window.record((now - arrived).max(0.0) * 1000.0);
+        }
+    }
+
+    /// The median and 99th percentile, `None` before the first sample.
+    pub fn summary(&self) -> LatencyMs {
+        let window = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        LatencyMs {
+            p50: (!window.is_empty()).then(|| window.percentile(0.5)),
+            p99: (!window.is_empty()).then(|| window.percentile(0.99)),
+        }
     }
 }
 

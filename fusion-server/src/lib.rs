@@ -1,7 +1,8 @@
 //! The fusion server: asynchronous sequential multi-sensor GM-PHD over Zenoh.
 //!
-//! [`engine::Engine`] admits measurement sets, orders them by stamp in a [`reorder::ReorderBuffer`]
-//! and runs the [`tracker::Tracker`] (filter + labels + track confirmation). [`service::run`] wires
+//! [`engine::Engine`] admits measurement sets and processes each at once on a
+//! [`timeline::Timeline`] (in stamp order; a late set rolls the filter back and re-processes)
+//! with the [`tracker::Tracker`] (filter + labels + track confirmation). [`service::run`] wires
 //! it to Zenoh; [`replay::replay`] runs it offline over a replay file.
 
 pub mod checkpoint;
@@ -12,8 +13,11 @@ mod engine_thread;
 pub mod latency;
 pub mod limiter;
 pub mod plot;
-pub mod reorder;
+pub mod processing;
+mod publisher;
+mod rejection;
 pub mod replay;
 pub mod sensors;
 pub mod service;
+pub mod timeline;
 pub mod tracker;

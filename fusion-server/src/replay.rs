@@ -74,6 +74,10 @@ fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
 }
 
 /// Runs the pipeline over `input`, writing one `TrackSet` JSON line per processed set to `output`.
+///
+/// Each line is the final answer for its set: what processing every set in stamp order gives,
+/// whatever order the file lists them in (within `ingest.max_lateness_s`), numbered in stamp
+/// order.
 pub fn replay(
     config: ServerConfig,
     input: impl BufRead,
@@ -113,7 +117,8 @@ pub fn replay(
                     report.bad_lines += 1;
                     tracing::warn!(line = index + 1, error = %e, "set skipped");
                 }
-                emitted.extend(engine.step(clock));
+                engine.step(clock);
+                emitted.extend(engine.take_settled());
             }
             ReplayLine::Truth(set) => {
                 if set.stamp.is_finite() && set.stamp >= 0.0 {
@@ -127,7 +132,8 @@ pub fn replay(
             report.tracks.push(tracks);
         }
     }
-    for tracks in engine.drain(clock) {
+    engine.step(clock);
+    for tracks in engine.settle_all() {
         write_line(&mut output, &tracks)?;
         report.outputs += 1;
         report.tracks.push(tracks);

@@ -16,12 +16,16 @@ pub struct Counters {
     pub received: u64,
     /// Sets that updated the filter.
     pub processed: u64,
-    /// Sets older than what was already processed (dropped).
+    /// Sets older than the history the server keeps (`ingest.max_lateness_s`; dropped).
     pub late: u64,
     /// Sets rejected by validation, the future-stamp check or the flood guard.
     pub invalid: u64,
     /// Sets missing from `seq` gaps.
     pub lost: u64,
+    /// Rollbacks this sensor's late sets caused.
+    pub rollbacks: u64,
+    /// This sensor's sets processed again after a rollback.
+    pub reprocessed: u64,
 }
 
 /// One known sensor.
@@ -106,6 +110,8 @@ impl Sensor {
             late: self.counters.late,
             invalid: self.counters.invalid,
             lost: self.counters.lost,
+            rollbacks: self.counters.rollbacks,
+            reprocessed: self.counters.reprocessed,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! Zenoh callbacks only decode the key and the encoding and hand the payload to a bounded
 //! channel (overflow is counted); the engine runs on its own thread, so slow clients never stall
 //! ingest; queryables answer from a snapshot the engine refreshes; a publisher task puts the
-//! latest `TrackSet` at most `output.max_publish_hz` times per second.
+//! latest `TrackSet` as soon as there is one (at most `output.max_publish_hz` times per second).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
@@ -11,9 +11,8 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use protocol::{keys, SensorId, SensorKeyKind, Status, TrackSet, WireFormat};
-use tokio::sync::{mpsc, watch};
+use tokio::sync::mpsc;
 use zenoh::bytes::Encoding;
-use zenoh::qos::CongestionControl;
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::Wait;
 
@@ -21,6 +20,7 @@ use crate::clock;
 use crate::config::ServerConfig;
 use crate::engine::Engine;
 use crate::engine_thread::{engine_loop, restore_checkpoint, Inbound, Snapshot};
+use crate::publisher;
 
 /// Runs the service until SIGINT or SIGTERM.
 pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
@@ -38,7 +38,6 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
         tracks: engine.tracks().clone(),
         status: engine.status(started),
     }));
-    let (tracks_tx, tracks_rx) = watch::channel::<Option<(TrackSet, f64)>>(None);
     let (ask_tx, mut ask_rx) = mpsc::unbounded_channel::<SensorId>();
 
     // Measurement sets.
@@ -130,33 +129,14 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
         });
     }
 
-    // The publisher: the latest TrackSet, rate-limited.
-    let publisher_task = {
-        let publisher = session
-            .declare_publisher(keys::tracks_key(&site))
-            .encoding(Encoding::from(WireFormat::Postcard.encoding_str()))
-            .congestion_control(CongestionControl::Block)
-            .await
-            .map_err(|e| anyhow::anyhow!("declaring the tracks publisher: {e}"))?;
-        let period = Duration::from_secs_f64(1.0 / config.output.max_publish_hz);
-        let mut tracks_rx = tracks_rx;
-        tokio::spawn(async move {
-            while tracks_rx.changed().await.is_ok() {
-                let latest = tracks_rx.borrow_and_update().clone();
-                if let Some((tracks, _)) = latest {
-                    match protocol::encode(&tracks, WireFormat::Postcard) {
-                        Ok(bytes) => {
-                            if let Err(e) = publisher.put(bytes).await {
-                                tracing::warn!(error = %e, "publishing tracks failed");
-                            }
-                        }
-                        Err(e) => tracing::error!(error = %e, "encoding tracks failed"),
-                    }
-                }
-                tokio::time::sleep(period).await;
-            }
-        })
-    };
+    // The publisher: the latest TrackSet as soon as there is one, rate-limited.
+    let (outbox, publisher_task) = publisher::start(
+        &session,
+        &site,
+        config.output.max_publish_hz,
+        engine.latency(),
+    )
+    .await?;
 
     // The engine thread.
     let engine_thread = {
@@ -165,7 +145,7 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
         let overflow = overflow.clone();
         std::thread::Builder::new()
             .name("fusion-engine".into())
-            .spawn(move || engine_loop(engine, config, rx, snapshot, overflow, tracks_tx, ask_tx))?
+            .spawn(move || engine_loop(engine, config, rx, snapshot, overflow, outbox, ask_tx))?
     };
 
     wait_for_signal().await;

@@ -62,13 +62,13 @@ fn run(lines: &[ReplayLine], rogue: bool) -> (Vec<TrackSet>, Engine) {
                 engine
                     .admit_set(Some(&set.sensor), &bytes, WireFormat::Postcard, now)
                     .unwrap();
-                out.extend(engine.step(now));
+                out.extend(engine.step(now).tracks);
             }
             ReplayLine::Truth(_) => {}
         }
     }
     let end = lines.iter().filter_map(|l| l.stamp()).fold(0.0, f64::max);
-    out.extend(engine.drain(end));
+    out.extend(engine.step(end).tracks);
     (out, engine)
 }
 

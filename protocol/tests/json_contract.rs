@@ -49,8 +49,18 @@ fn protocol_md_track_set_round_trips() {
 }
 
 #[test]
-fn protocol_md_status_round_trips() {
-    let status: Status = assert_json_round_trip(STATUS);
+fn protocol_md_status_decodes_and_the_added_counters_default_to_zero() {
+    // The page's example predates the per-sensor `rollbacks` and `reprocessed` counters (fields
+    // added within version 1): it still decodes, and re-encoding writes them out.
+    let status: Status =
+        decode(STATUS.as_bytes(), WireFormat::Json).expect("the page's example decodes");
+    assert_eq!(
+        (status.sensors[0].rollbacks, status.sensors[0].reprocessed),
+        (0, 0)
+    );
+    let written: serde_json::Value =
+        serde_json::from_slice(&encode(&status, WireFormat::Json).unwrap()).unwrap();
+    assert_eq!(written["sensors"][0]["rollbacks"], 0);
     status.validate().expect("the page's example is valid");
     assert_eq!(status.sensors[0].kind, SensorKind::Camera);
     assert_eq!(status.rejected.invalid, 1);

@@ -76,7 +76,7 @@ pub use bounds::BoundsBox;
 pub use camera_pose::{look_at_projection, LookAt};
 pub use error::ScenarioError;
 pub use motion::{ConstantVelocity, Motion, Waypoints};
-pub use presets::{default_room, dense, ROOM_FLOOR, ROOM_HEIGHT};
+pub use presets::{default_room, dense, dense_scaled, ROOM_FLOOR, ROOM_HEIGHT};
 pub use random_walk::{RandomWalk, DEFAULT_KNOT_INTERVAL_S};
 pub use replay::{replay_lines, ReplayLines};
 pub use scenario::Scenario;

@@ -151,13 +151,13 @@ async fn main() -> anyhow::Result<()> {
         Ok(status) => {
             for s in &status.sensors {
                 println!(
-                    "sensor {:8} {:14} received {:5} processed {:5} late {:3} invalid {:3} lost {:3}",
-                    s.sensor.as_str(), s.kind.name(), s.received, s.processed, s.late, s.invalid, s.lost
+                    "sensor {:8} {:14} received {:5} processed {:5} late {:3} invalid {:3} lost {:3} rollbacks {:3}",
+                    s.sensor.as_str(), s.kind.name(), s.received, s.processed, s.late, s.invalid, s.lost, s.rollbacks
                 );
             }
-            let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1} ms"));
+            let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
             println!(
-                "latency from arrival to tracks (includes the reorder window): p50 {}, p99 {}; {} components",
+                "latency from arrival to the put of the tracks: p50 {}, p99 {}; {} components",
                 ms(status.latency_ms.p50),
                 ms(status.latency_ms.p99),
                 status.components

@@ -26,6 +26,13 @@ pub struct SensorStatus {
     pub invalid: u64,
     /// Sets missing from gaps in `seq`.
     pub lost: u64,
+    /// Times a set of this sensor arrived older than sets already processed, so the filter went
+    /// back to before its stamp and processed again (0 from servers that do not report it).
+    #[serde(default)]
+    pub rollbacks: u64,
+    /// Sets of this sensor processed again after another set's rollback.
+    #[serde(default)]
+    pub reprocessed: u64,
 }
 
 /// Payloads rejected, by reason, over all sensors.

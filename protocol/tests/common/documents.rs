@@ -70,6 +70,7 @@ pub const TRACK_SET_WITHOUT_VELOCITY: &str = r#"{"version": 1, "site": "default"
 pub const STATUS_AT_START: &str = r#"{"version": 1, "site": "default", "uptime_s": 0.1,
  "stamp": 0.0, "components": 0, "tracks": 0,
  "sensors": [{"sensor": "uwb", "kind": "position", "alive": false, "last_stamp": null,
-              "received": 0, "processed": 0, "late": 0, "invalid": 0, "lost": 0}],
+              "received": 0, "processed": 0, "late": 0, "invalid": 0, "lost": 0,
+              "rollbacks": 0, "reprocessed": 0}],
  "rejected": {"undecodable": 0, "unknown_sensor": 0, "invalid": 0, "late": 0},
  "latency_ms": {"p50": null, "p99": null}}"#;

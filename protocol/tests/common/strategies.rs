@@ -234,10 +234,16 @@ fn sensor_status() -> impl Strategy<Value = SensorStatus> {
         prop::sample::select(SensorKind::ALL.to_vec()),
         any::<bool>(),
         prop::option::of(stamp()),
-        [any::<u64>(); 5],
+        [any::<u64>(); 7],
     )
         .prop_map(
-            |(sensor, kind, alive, last_stamp, [received, processed, late, invalid, lost])| {
+            |(
+                sensor,
+                kind,
+                alive,
+                last_stamp,
+                [received, processed, late, invalid, lost, rollbacks, reprocessed],
+            )| {
                 SensorStatus {
                     sensor,
                     kind,
@@ -248,6 +254,8 @@ fn sensor_status() -> impl Strategy<Value = SensorStatus> {
                     late,
                     invalid,
                     lost,
+                    rollbacks,
+                    reprocessed,
                 }
             },
         )

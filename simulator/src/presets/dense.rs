@@ -1,6 +1,6 @@
 //! A dense benchmark scenario: many targets, many fast sensors, heavy clutter.
 
-use protocol::{CameraModel, LidarModel, PositionModel, Region, SensorModel, Site};
+use protocol::{CameraModel, LidarModel, PositionModel, Region, SensorId, SensorModel, Site};
 
 use crate::bounds::BoundsBox;
 use crate::camera_pose::{look_at_projection, LookAt};
@@ -55,6 +55,46 @@ pub fn dense() -> Scenario {
         targets: (0..TARGETS).map(target).collect(),
         sensors,
     }
+}
+
+/// The dense scenario scaled to `targets` targets and `sensors` sensors, for measuring how the
+/// cost grows: the targets follow the same pattern (beyond the first 100, shifted by 1.3 m per
+/// hundred so that none starts on another), and the sensors repeat the 8 of [`dense`] in turn
+/// (copies named `<name>_<copy>`, their frames interleaved).
+pub fn dense_scaled(targets: u64, sensors: usize) -> Scenario {
+    let mut scenario = dense();
+    let base = std::mem::take(&mut scenario.sensors);
+    scenario.targets = (0..targets).map(scaled_target).collect();
+    scenario.sensors = (0..sensors)
+        .map(|i| {
+            let mut spec = base[i % base.len()].clone();
+            let copy = i / base.len();
+            if copy > 0 {
+                let name = format!("{}_{copy}", spec.sensor.as_str());
+                spec.sensor = SensorId::new(&name).expect("a preset name with a number is valid");
+            }
+            spec.phase_s = i as f64 * PHASE_STEP_S;
+            spec
+        })
+        .collect();
+    scenario
+}
+
+fn scaled_target(i: u64) -> Target {
+    let mut target = target(i);
+    let shift = 1.3 * (i / 100) as f64;
+    match &mut target.motion {
+        Motion::ConstantVelocity(cv) => {
+            cv.position[0] += shift;
+            cv.position[1] += shift;
+        }
+        Motion::RandomWalk(walk) => {
+            walk.position[0] += shift;
+            walk.position[1] += shift;
+        }
+        _ => {}
+    }
+    target
 }
 
 /// Target number `i` (id `i + 1`).

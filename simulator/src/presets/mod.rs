@@ -3,7 +3,7 @@
 mod dense;
 mod room;
 
-pub use dense::dense;
+pub use dense::{dense, dense_scaled};
 pub use room::{default_room, ROOM_FLOOR, ROOM_HEIGHT};
 
 use protocol::SensorId;

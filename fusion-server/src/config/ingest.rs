@@ -1,0 +1,91 @@
+//! `[ingest]` and `[output]`: how sets are admitted and how tracks are published.
+
+use serde::Deserialize;
+
+use super::{invalid, positive, ConfigError};
+
+/// `[ingest]`: how incoming sets are admitted.
+///
+/// Every admitted set is processed at once; a set older than sets already processed makes the
+/// filter go back to a snapshot taken before its stamp and process again in stamp order
+/// (`timeline.rs`), so nothing waits for slower sensors and late sets are not lost.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct IngestConfig {
+    /// How far behind the newest processed stamp a set may be and still be used (seconds); an
+    /// older set is refused as late. Memory grows with it: the sets and the snapshots of this
+    /// much history are kept.
+    pub max_lateness_s: f64,
+    /// Seconds of stamp time between two snapshots of the filter state: a rollback re-processes
+    /// at most this much more than it must, and the snapshots kept number
+    /// `max_lateness_s / snapshot_interval_s`.
+    pub snapshot_interval_s: f64,
+    /// No longer used: sets are not held any more. Present only to say so at start.
+    pub reorder_window_ms: Option<u64>,
+    /// A set stamped more than this ahead of the server's clock is rejected.
+    pub max_future_s: f64,
+    /// Capacity of the queue between Zenoh and the filter; overflow is counted.
+    pub queue_capacity: usize,
+    /// Sets per second one sensor may send before the excess is dropped and counted (flood guard).
+    pub max_rate_hz: f64,
+}
+
+impl Default for IngestConfig {
+    fn default() -> Self {
+        Self {
+            max_lateness_s: 2.0,
+            snapshot_interval_s: 0.1,
+            reorder_window_ms: None,
+            max_future_s: 2.0,
+            queue_capacity: 4096,
+            max_rate_hz: 500.0,
+        }
+    }
+}
+
+impl IngestConfig {
+    /// Checks every value; the error names the first offending key.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.reorder_window_ms.is_some() {
+            return Err(invalid(
+                "ingest.reorder_window_ms",
+                "sets are no longer held in a reorder window: each is processed at once and a \
+                 late one rolls the filter back; remove the key (ingest.max_lateness_s sets how \
+                 late a set may be)",
+            ));
+        }
+        positive("ingest.max_lateness_s", self.max_lateness_s)?;
+        positive("ingest.snapshot_interval_s", self.snapshot_interval_s)?;
+        positive("ingest.max_future_s", self.max_future_s)?;
+        positive("ingest.max_rate_hz", self.max_rate_hz)?;
+        if self.queue_capacity == 0 {
+            return Err(invalid("ingest.queue_capacity", "must be at least 1"));
+        }
+        Ok(())
+    }
+}
+
+/// `[output]`: publication of tracks.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutputConfig {
+    /// At most this many `TrackSet` puts per second. A guard for subscribers, not a pace: the
+    /// default is above any deployment's set rate, so each processed set's tracks go out at once;
+    /// under a lower limit the latest state is published as soon as the limit allows.
+    pub max_publish_hz: f64,
+}
+
+impl Default for OutputConfig {
+    fn default() -> Self {
+        Self {
+            max_publish_hz: 1000.0,
+        }
+    }
+}
+
+impl OutputConfig {
+    /// Checks every value; the error names the first offending key.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        positive("output.max_publish_hz", self.max_publish_hz)
+    }
+}
