@@ -1,12 +1,13 @@
 //! One full asynchronous step of the dense scenario: `LabelledTracker::step` (predict to the
 //! set's stamp, update with that one sensor's set, reduce, label continuity, track manager).
 //!
-//! The scenario is issue 7's dense one, rebuilt here from gmphd's own models after
-//! `simulator::dense` (which gmphd cannot depend on): 50 targets walking in a
-//! 40 × 40 × 10 m volume (random accelerations of 0.3 m/s² per axis, reflected at 1 m
-//! inside the walls), seen by 8 sensors at 30 Hz each, staggered by 4 ms — 4 cameras high
-//! above the corners (f = 500 px, 640 × 480, σ = 2 px), 2 LIDARs facing each other
-//! across the volume, 2 position sensors (σ = 0.5 m and 1 × 1 × 0.3 m) — with p_D 0.9 (0.85
+//! The scenario is the dense one of the performance goals (`BENCHMARKS.md`), rebuilt
+//! here from gmphd's own models after `simulator::dense` (which gmphd cannot depend on):
+//! 50 targets walking in a 40 × 40 × 10 m volume (random accelerations of 0.3 m/s² per
+//! axis, reflected at 1 m inside the walls), seen by 8 sensors at 30 Hz each, staggered
+//! by 4 ms — 4 cameras high above the corners (f = 500 px, 640 × 480, σ = 2 px), 2 LIDARs
+//! facing each other across the volume, 2 position sensors (σ = 0.5 m and 1 × 1 × 0.3 m)
+//! — with p_D 0.9 (0.85
 //! for the position sensors) and 20 clutter points per set. The filter is the one
 //! `fusion-loadbench` makes the server build: 3-D constant velocity (σ_a = 1 m/s²), p_S 0.99
 //! per second, an 8 × 8 × 2 birth grid (0.2 births/s, velocity σ 0.5 m/s, added every 0.02 s as

@@ -1,4 +1,4 @@
-//! Per-scan cost of Vo & Ma's two GM-PHD demos (the goals of issue 7 name both).
+//! Per-scan cost of Vo & Ma's two GM-PHD demos (the performance goals name both).
 //!
 //! * `vo_linear`: the linear demo as in `tests/exp_vo_demo.rs` — 12 targets (the demo's
 //!   `gen_truth.m`), 2-D constant velocity (T = 1 s, σ_v = 5 m/s²), p_S 0.99, four birth

@@ -1,4 +1,4 @@
-//! Small linear-algebra helpers shared by the prediction, update and reduction steps.
+//! Small linear-algebra routines shared by the prediction, update and reduction steps.
 
 use std::f64::consts::{PI, TAU};
 

@@ -30,7 +30,7 @@
 //! targets 1 and 2 cross near k = 43; each birth child gets its own label
 //! (`gmphd::newborn`), and a cluster that descends from an identity no estimate carries
 //! any more is reported so that the identity can continue
-//! (`labels::report_lost_identities`). Before those two (session 10) the count was right
+//! (`labels::report_lost_identities`). Before those two the count was right
 //! in 78.1 % of the steps, the twins sharing one label for 3–4 scans and the crossing
 //! costing one identity and two scans of a new one's confirmation.
 //!

@@ -30,7 +30,7 @@
 //! 1.044 for the confirmed tracks, 1.048 with the filter's own labels. In this
 //! scenario the filter's labels already rarely change; the association keeps
 //! them (fewer switches, 101 vs 112) rather than improving on them. The
-//! assertion is the brief's bound, ≤ 1.15.
+//! assertion's bound is ≤ 1.15.
 
 use gmphd::extract::{StateExtractor, WeightThresholdExtractor};
 use gmphd::metrics::LabelContinuity;

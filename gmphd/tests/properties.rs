@@ -269,7 +269,7 @@ proptest! {
 
 #[test]
 fn tdoa_peaked_likelihoods_in_heavy_clutter() {
-    // The brief's stress case explicitly: 6e-5 s noise (densities ~1e4 per second
+    // The stress case of very peaked likelihoods explicitly: 6e-5 s noise (densities ~1e4 per second
     // of delay) and 6e-8 s (~1e7), with and without clutter, for many seeds.
     for seed in 0..12 {
         for (noise_scale, clutter) in [(1.0, 0.0), (1.0, 20.0), (1e-3, 0.0), (1e-3, 20.0)] {

@@ -1,5 +1,5 @@
-//! Helpers shared by the integration tests: running the real binary and reading replay output.
-// Each test binary uses a different part of these helpers.
+//! Code shared by the integration tests: running the real binary and reading replay output.
+// Each test binary uses a different part of this module.
 #![allow(dead_code)]
 
 use std::collections::BTreeMap;

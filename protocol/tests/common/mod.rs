@@ -1,6 +1,6 @@
-//! Helpers shared by the integration tests: contract-form JSON comparison and round-trip assertions.
+//! Code shared by the integration tests: contract-form JSON comparison and round-trip assertions.
 
-// Each test binary uses only some of these helpers.
+// Each test binary uses only some of this module.
 #![allow(dead_code)]
 
 pub mod documents;
