@@ -13,6 +13,7 @@ use protocol::{
 
 use crate::config::{IngestConfig, ServerConfig};
 use crate::latency::SharedLatency;
+use crate::pacing::RollbackPacing;
 use crate::processing::{FilterRun, Pending, SetTimeline, Tie};
 pub use crate::rejection::Rejection;
 use crate::sensors::{Learned, SensorRegistry};
@@ -40,6 +41,8 @@ pub struct Engine {
     sensors: SensorRegistry,
     /// Admitted sets not processed yet: processed together by the next `step`.
     waiting: Vec<Incoming<Tie, Pending>>,
+    /// Late sets waiting for the next rollback.
+    pacing: RollbackPacing,
     timeline: SetTimeline,
     tracker: Tracker,
     rejected: Rejected,
@@ -62,6 +65,10 @@ impl Engine {
             started: now,
             sensors: SensorRegistry::new(),
             waiting: Vec::new(),
+            pacing: RollbackPacing::new(
+                config.ingest.rollback_interval_s,
+                config.ingest.max_lateness_s,
+            ),
             timeline: SetTimeline::new(timeline_config(&config.ingest), !live),
             tracker,
             rejected: Rejected::default(),
@@ -240,7 +247,7 @@ impl Engine {
                 horizon,
             });
         }
-        if self.waiting.len() >= self.config.ingest.queue_capacity {
+        if self.waiting.len() + self.pacing.held() >= self.config.ingest.queue_capacity {
             self.count_invalid(&name);
             return Err(Rejection::Overflow(name));
         }
@@ -265,9 +272,22 @@ impl Engine {
     }
 
     /// Processes every set admitted since the last step, in stamp order, rolling the filter back
-    /// first if one of them is older than what was processed (one rollback for the whole batch).
-    pub fn step(&mut self, _now: f64) -> StepOutput {
-        let batch = std::mem::take(&mut self.waiting);
+    /// first if one of them is older than what was processed (one rollback for the whole batch;
+    /// late sets wait for the next rollback that `ingest.rollback_interval_s` allows).
+    pub fn step(&mut self, now: f64) -> StepOutput {
+        self.step_with(now, false)
+    }
+
+    /// Processes everything admitted, late sets included, without waiting for the pacing
+    /// (shutdown, end of a replay).
+    pub fn flush(&mut self, now: f64) -> StepOutput {
+        self.step_with(now, true)
+    }
+
+    fn step_with(&mut self, now: f64, force: bool) -> StepOutput {
+        let waiting = std::mem::take(&mut self.waiting);
+        let newest = self.timeline.newest_key();
+        let batch = self.pacing.select(waiting, newest, now, force);
         if batch.is_empty() {
             return StepOutput::default();
         }

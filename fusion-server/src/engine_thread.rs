@@ -111,7 +111,11 @@ pub(crate) fn engine_loop(
             }
         }
         let now = clock::now();
-        let step = engine.step(now);
+        let step = if shutting_down {
+            engine.flush(now)
+        } else {
+            engine.step(now)
+        };
         if let Some(last) = step.tracks.last() {
             outbox.offer(last.clone(), &step.arrivals);
         }

@@ -12,6 +12,7 @@ pub mod engine;
 mod engine_thread;
 pub mod latency;
 pub mod limiter;
+pub mod pacing;
 pub mod plot;
 pub mod processing;
 mod publisher;

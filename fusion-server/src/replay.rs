@@ -132,7 +132,7 @@ pub fn replay(
             report.tracks.push(tracks);
         }
     }
-    engine.step(clock);
+    engine.flush(clock);
     for tracks in engine.settle_all() {
         write_line(&mut output, &tracks)?;
         report.outputs += 1;

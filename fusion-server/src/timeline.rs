@@ -195,6 +195,11 @@ where
         self.newest
     }
 
+    /// The key of the newest processed item.
+    pub fn newest_key(&self) -> Option<&Key<T>> {
+        self.entries.back().map(|e| &e.key)
+    }
+
     /// True when a set stamped `stamp` would be refused as too late.
     pub fn is_too_late(&self, stamp: f64) -> bool {
         self.horizon().is_some_and(|h| stamp < h)

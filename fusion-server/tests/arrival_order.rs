@@ -67,6 +67,7 @@ fn run(
         engine.step(chunk.last().unwrap().0);
         settled.extend(engine.take_settled());
     }
+    engine.flush(arrivals.last().unwrap().0);
     settled.extend(engine.settle_all());
     let json = settled
         .iter()

@@ -20,6 +20,10 @@ pub struct IngestConfig {
     /// at most this much more than it must, and the snapshots kept number
     /// `max_lateness_s / snapshot_interval_s`.
     pub snapshot_interval_s: f64,
+    /// At most one rollback per this many seconds: late sets wait (at most this long) and go
+    /// back together, so a sensor that is always late does not make the filter re-process the
+    /// others' sets once per set of its own. Sets newer than everything processed never wait.
+    pub rollback_interval_s: f64,
     /// No longer used: sets are not held any more. Present only to say so at start.
     pub reorder_window_ms: Option<u64>,
     /// A set stamped more than this ahead of the server's clock is rejected.
@@ -35,6 +39,7 @@ impl Default for IngestConfig {
         Self {
             max_lateness_s: 2.0,
             snapshot_interval_s: 0.1,
+            rollback_interval_s: 0.1,
             reorder_window_ms: None,
             max_future_s: 2.0,
             queue_capacity: 4096,
@@ -56,6 +61,15 @@ impl IngestConfig {
         }
         positive("ingest.max_lateness_s", self.max_lateness_s)?;
         positive("ingest.snapshot_interval_s", self.snapshot_interval_s)?;
+        if !(self.rollback_interval_s >= 0.0 && self.rollback_interval_s < self.max_lateness_s) {
+            return Err(invalid(
+                "ingest.rollback_interval_s",
+                format!(
+                    "{} must be at least 0 and below ingest.max_lateness_s",
+                    self.rollback_interval_s
+                ),
+            ));
+        }
         positive("ingest.max_future_s", self.max_future_s)?;
         positive("ingest.max_rate_hz", self.max_rate_hz)?;
         if self.queue_capacity == 0 {
