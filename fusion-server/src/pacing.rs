@@ -2,8 +2,9 @@
 //!
 //! A rollback re-processes every set after the late one, so a sensor that is always 0.4 s late
 //! would otherwise make the filter re-process 0.4 s of every other sensor's sets for each of its
-//! own. Late sets are held instead until `ingest.rollback_interval_s` has passed since the last
-//! rollback, then all go back in one rollback; sets newer than everything processed never wait.
+//! own. With `ingest.rollback_interval_s` > 0, late sets are held until that long has passed since
+//! the last rollback, then all go back in one rollback; sets newer than everything processed never
+//! wait. With 0 (the default) every late set goes back at once.
 //! A held set is released early when the history would otherwise move past it, so pacing never
 //! makes a set late.
 
