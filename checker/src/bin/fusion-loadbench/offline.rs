@@ -103,6 +103,21 @@ pub fn dense_config(max_components: usize) -> ServerConfig {
     config
 }
 
+/// An offline engine that knows `descriptors`.
+fn engine_for(
+    config: &ServerConfig,
+    start: f64,
+    descriptors: &[SensorDescriptor],
+) -> anyhow::Result<Engine> {
+    let mut engine = Engine::new(config.clone(), start, false)?;
+    for d in descriptors {
+        engine
+            .learn_descriptor(d.clone(), false)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+    }
+    Ok(engine)
+}
+
 /// Runs the engine over `scenario` for `seconds` under `arrival`, one set per step as the live
 /// server does when it keeps up, on a one-thread pool.
 pub fn engine_cost(
@@ -118,12 +133,7 @@ pub fn engine_cost(
     pool.install(|| {
         heap::reset_peak();
         let before = heap::current();
-        let mut engine = Engine::new(config.clone(), start, false)?;
-        for d in &descriptors {
-            engine
-                .learn_descriptor(d.clone(), false)
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
+        let mut engine = engine_for(config, start, &descriptors)?;
         let began = thread_cpu_s();
         for (arrived, set) in &arrivals {
             // Refusals are counted in the status and reported below.
@@ -171,12 +181,7 @@ pub fn engine_wall(
         .num_threads(threads)
         .build()?;
     pool.install(|| {
-        let mut engine = Engine::new(config.clone(), start, false)?;
-        for d in &descriptors {
-            engine
-                .learn_descriptor(d.clone(), false)
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
-        }
+        let mut engine = engine_for(config, start, &descriptors)?;
         let began = std::time::Instant::now();
         for set in &sets {
             let _ = engine.admit_decoded(None, set.clone(), set.stamp);

@@ -159,23 +159,7 @@ impl Rig {
 
     /// The server's status report.
     pub async fn status(&self) -> anyhow::Result<Status> {
-        let replies = self
-            .session
-            .get(keys::status_key(&self.site))
-            .timeout(Duration::from_secs(3))
-            .await
-            .map_err(|e| anyhow::anyhow!("{e}"))?;
-        let reply = replies
-            .recv_async()
-            .await
-            .map_err(|e| anyhow::anyhow!("no status reply: {e}"))?;
-        let sample = reply
-            .result()
-            .map_err(|e| anyhow::anyhow!("status error reply: {e:?}"))?;
-        Ok(protocol::decode(
-            &sample.payload().to_bytes(),
-            WireFormat::Postcard,
-        )?)
+        checker::query_status(&self.session, &self.site, WireFormat::Postcard).await
     }
 
     /// The server's peak resident memory in KiB (VmHWM), when the platform reports it.
