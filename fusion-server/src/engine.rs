@@ -5,6 +5,7 @@
 //! and `replay` (the largest stamp seen) run exactly the same code.
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use protocol::{
     MeasurementSet, Rejected, SensorDescriptor, SensorId, Site, Status, TrackSet, WireFormat,
@@ -66,8 +67,9 @@ impl Engine {
             sensors: SensorRegistry::new(),
             waiting: Vec::new(),
             pacing: RollbackPacing::new(
-                config.ingest.rollback_interval_s,
+                config.ingest.max_rollback_share,
                 config.ingest.max_lateness_s,
+                now,
             ),
             timeline: SetTimeline::new(timeline_config(&config.ingest), !live),
             tracker,
@@ -273,7 +275,7 @@ impl Engine {
 
     /// Processes every set admitted since the last step, in stamp order, rolling the filter back
     /// first if one of them is older than what was processed (one rollback for the whole batch;
-    /// late sets wait for the next rollback that `ingest.rollback_interval_s` allows).
+    /// late sets wait while rollbacks have used up `ingest.max_rollback_share` of the time).
     pub fn step(&mut self, now: f64) -> StepOutput {
         self.step_with(now, false)
     }
@@ -298,9 +300,13 @@ impl Engine {
         arrivals.sort_by(|a, b| a.0.cmp(&b.0));
         let mut processed = Vec::with_capacity(batch.len());
         let mut run = FilterRun::new(&mut self.tracker, &self.sensors, &self.site);
+        let began = Instant::now();
         let report = self.timeline.process_batch(batch, &mut run, |p| {
             processed.push((p.key.clone(), p.output.cloned(), p.fresh));
         });
+        if report.rollback_cause.is_some() {
+            self.pacing.charge(began.elapsed().as_secs_f64());
+        }
         self.count_batch(&report);
         let mut out = StepOutput::default();
         for (key, output, fresh) in processed {

@@ -20,13 +20,12 @@ pub struct IngestConfig {
     /// at most this much more than it must, and the snapshots kept number
     /// `max_lateness_s / snapshot_interval_s`.
     pub snapshot_interval_s: f64,
-    /// At most one rollback per this many seconds: late sets wait (at most this long) and go
-    /// back together, so a sensor that is always late does not make the filter re-process the
-    /// others' sets once per set of its own. Sets newer than everything processed never wait.
-    /// 0 (the default): every late set goes back at once, which keeps late sets' latency low
-    /// while the engine has time to spare (the room: 14 % busy with two cameras late); raise it
-    /// (e.g. 0.1) when rollbacks saturate the engine (the dense benchmark scenario).
-    pub rollback_interval_s: f64,
+    /// The largest share of the engine's time that rollbacks may take (0 < share ≤ 1). While
+    /// rollbacks cost less (the room: 15 % of one core with two cameras late), each late set
+    /// goes back at once; when they would cost more (many targets and sensors), late sets wait
+    /// and go back together, one rollback for many, so that the on-time sets do not queue
+    /// behind re-processing. Sets newer than everything processed never wait. 1: never hold.
+    pub max_rollback_share: f64,
     /// No longer used: sets are not held any more. Present only to say so at start.
     pub reorder_window_ms: Option<u64>,
     /// A set stamped more than this ahead of the server's clock is rejected.
@@ -42,7 +41,7 @@ impl Default for IngestConfig {
         Self {
             max_lateness_s: 2.0,
             snapshot_interval_s: 0.1,
-            rollback_interval_s: 0.0,
+            max_rollback_share: 0.25,
             reorder_window_ms: None,
             max_future_s: 2.0,
             queue_capacity: 4096,
@@ -64,13 +63,10 @@ impl IngestConfig {
         }
         positive("ingest.max_lateness_s", self.max_lateness_s)?;
         positive("ingest.snapshot_interval_s", self.snapshot_interval_s)?;
-        if !(self.rollback_interval_s >= 0.0 && self.rollback_interval_s < self.max_lateness_s) {
+        if !(self.max_rollback_share > 0.0 && self.max_rollback_share <= 1.0) {
             return Err(invalid(
-                "ingest.rollback_interval_s",
-                format!(
-                    "{} must be at least 0 and below ingest.max_lateness_s",
-                    self.rollback_interval_s
-                ),
+                "ingest.max_rollback_share",
+                format!("{} must be above 0 and at most 1", self.max_rollback_share),
             ));
         }
         positive("ingest.max_future_s", self.max_future_s)?;

@@ -71,7 +71,7 @@ fn offline_phase(args: &Args) -> anyhow::Result<()> {
     for arrival in [Arrival::InOrder, Arrival::Delayed] {
         let cost = engine_cost(&config, &scenario, args.offline_seconds, arrival)?;
         println!(
-            "engine, one core, {arrival:?}: {} sets, {:.1} µs per set = {:.1} × real time; {} rollbacks ({:.2} per set), {} re-processed, {} late; peak heap {:.1} MiB",
+            "engine, one core, {arrival:?}: {} sets, {:.1} µs per set = {:.1} × real time; {} rollbacks ({:.2} per set), {} re-processed, {} late; peak heap {:.1} MiB; one snapshot {:.1} µs",
             cost.sets,
             cost.per_set_us(),
             cost.real_time_multiple(),
@@ -80,6 +80,7 @@ fn offline_phase(args: &Args) -> anyhow::Result<()> {
             cost.reprocessed,
             cost.late,
             cost.peak_bytes as f64 / (1024.0 * 1024.0),
+            cost.snapshot_us,
         );
     }
     Ok(())

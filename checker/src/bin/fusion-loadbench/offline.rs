@@ -36,6 +36,9 @@ pub struct Cost {
     pub late: u64,
     /// Peak heap bytes held by the engine during the run (above what was allocated before).
     pub peak_bytes: usize,
+    /// CPU microseconds of one snapshot of the whole tracker state at the end of the run (what
+    /// the timeline takes every `ingest.snapshot_interval_s` of stamps).
+    pub snapshot_us: f64,
 }
 
 impl Cost {
@@ -141,6 +144,7 @@ pub fn engine_cost(
             engine.step(*arrived);
         }
         let cpu_s = thread_cpu_s() - began;
+        let snapshot_us = snapshot_cost_us(&engine);
         let status = engine.status(start + seconds);
         let sum = |f: fn(&protocol::SensorStatus) -> u64| status.sensors.iter().map(f).sum();
         Ok(Cost {
@@ -151,8 +155,22 @@ pub fn engine_cost(
             reprocessed: sum(|s| s.reprocessed),
             late: sum(|s| s.late),
             peak_bytes: heap::peak().saturating_sub(before),
+            snapshot_us,
         })
     })
+}
+
+/// CPU microseconds of one copy of the engine's tracker state (the median of 101).
+fn snapshot_cost_us(engine: &Engine) -> f64 {
+    let mut times: Vec<f64> = (0..101)
+        .map(|_| {
+            let began = thread_cpu_s();
+            std::hint::black_box(engine.checkpoint());
+            (thread_cpu_s() - began) * 1e6
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
 }
 
 /// CPU time of the calling thread, in seconds.
