@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use protocol::{keys, MeasurementSet, SensorDescriptor, Site, TruthSet, WireFormat};
 use serde::Serialize;
-use transport::{SessionError, ZenohConfig};
+use transport::ZenohConfig;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::pubsub::Publisher;
 use zenoh::qos::CongestionControl;
@@ -26,9 +26,6 @@ pub const DESCRIPTOR_REFRESH: Duration = Duration::from_secs(3);
 
 /// At most one warning per this interval for repeated put failures of one publisher.
 const FAILURE_LOG_INTERVAL: Duration = Duration::from_secs(5);
-
-/// Longest wait between two attempts to open a client session while the router is unreachable.
-const MAX_OPEN_BACKOFF: Duration = Duration::from_secs(5);
 
 /// How often [`await_subscribers`] looks again.
 const SUBSCRIBER_POLL: Duration = Duration::from_millis(20);
@@ -50,26 +47,12 @@ impl Publishing {
         format: WireFormat,
         shutdown: &Shutdown,
     ) -> Result<Option<Self>, AgentError> {
-        let config = zenoh.to_zenoh()?;
-        let mut backoff = Duration::from_millis(250);
-        loop {
-            match zenoh::open(config.clone()).await {
-                Ok(session) => {
-                    tracing::info!(mode = %zenoh.mode, connect = ?zenoh.connect, listen = ?zenoh.listen, "zenoh session open");
-                    return Ok(Some(Self { session, format }));
-                }
-                Err(e) => {
-                    let error = SessionError::Open(e.to_string());
-                    tracing::warn!(%error, retry_in = ?backoff, "zenoh session not open yet; retrying");
-                }
-            }
-            let mut stop = shutdown.clone();
-            tokio::select! {
-                _ = tokio::time::sleep(backoff) => {}
-                _ = stop.requested() => return Ok(None),
-            }
-            backoff = (backoff * 2).min(MAX_OPEN_BACKOFF);
-        }
+        let mut stop = shutdown.clone();
+        let Some(session) = zenoh.open_retrying(stop.requested()).await? else {
+            return Ok(None);
+        };
+        tracing::info!(mode = %zenoh.mode, connect = ?zenoh.connect, listen = ?zenoh.listen, "zenoh session open");
+        Ok(Some(Self { session, format }))
     }
 
     /// Declares everything one sensor needs, in this order: descriptor queryable, descriptor put (now and every

@@ -29,7 +29,11 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
     restore_checkpoint(&config, &mut engine, started);
     let site = engine.site().clone();
 
-    let session = config.zenoh.open().await?;
+    // Started before its router (systemd, a laptop), the server waits for it as the agents do.
+    let Some(session) = config.zenoh.open_retrying(wait_for_signal()).await? else {
+        tracing::info!("stopped before the zenoh session opened");
+        return Ok(());
+    };
     tracing::info!(site = %site, zid = %session.zid(), mode = %config.zenoh.mode, "zenoh session open");
 
     let (tx, rx) = sync_channel::<Inbound>(config.ingest.queue_capacity);

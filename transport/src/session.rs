@@ -1,6 +1,8 @@
 //! Opening a Zenoh session from the `[zenoh]` section shared by the server and the agents.
 
+use std::future::Future;
 use std::path::PathBuf;
+use std::time::Duration;
 
 use serde::Deserialize;
 use thiserror::Error;
@@ -128,4 +130,36 @@ impl ZenohConfig {
             .await
             .map_err(|e| SessionError::Open(e.to_string()))
     }
+
+    /// Opens a session, waiting for the network: while Zenoh cannot open it (a client whose
+    /// router is not up yet), tries again after a pause that doubles from 250 ms up to 5 s,
+    /// logging each failure, until it succeeds or `stop` completes (then `Ok(None)`).
+    /// Configuration errors fail at once, since retrying cannot fix them.
+    pub async fn open_retrying(
+        &self,
+        stop: impl Future<Output = ()>,
+    ) -> Result<Option<zenoh::Session>, SessionError> {
+        let config = self.to_zenoh()?;
+        let mut stop = std::pin::pin!(stop);
+        let mut pause = FIRST_RETRY;
+        loop {
+            match zenoh::open(config.clone()).await {
+                Ok(session) => return Ok(Some(session)),
+                Err(e) => {
+                    let error = SessionError::Open(e.to_string());
+                    tracing::warn!(%error, connect = ?self.connect, retry_in = ?pause, "zenoh session not open yet; retrying");
+                }
+            }
+            tokio::select! {
+                _ = tokio::time::sleep(pause) => {}
+                _ = &mut stop => return Ok(None),
+            }
+            pause = (pause * 2).min(MAX_RETRY);
+        }
+    }
 }
+
+/// First pause of [`ZenohConfig::open_retrying`].
+const FIRST_RETRY: Duration = Duration::from_millis(250);
+/// Longest pause of [`ZenohConfig::open_retrying`].
+const MAX_RETRY: Duration = Duration::from_secs(5);

@@ -58,8 +58,8 @@ pub fn dense() -> Scenario {
 }
 
 /// The dense scenario scaled to `targets` targets and `sensors` sensors, for measuring how the
-/// cost grows: the targets follow the same pattern (beyond the first 100, shifted by 1.3 m per
-/// hundred so that none starts on another), and the sensors repeat the 8 of [`dense`] in turn
+/// cost grows: the targets follow the same pattern (each hundred beyond the first shifted 1.3 or
+/// 2.6 m to one side or the other, so that none starts on another), and the sensors repeat the 8 of [`dense`] in turn
 /// (copies named `<name>_<copy>`, their frames interleaved).
 pub fn dense_scaled(targets: u64, sensors: usize) -> Scenario {
     let mut scenario = dense();
@@ -82,7 +82,10 @@ pub fn dense_scaled(targets: u64, sensors: usize) -> Scenario {
 
 fn scaled_target(i: u64) -> Target {
     let mut target = target(i);
-    let shift = 1.3 * (i / 100) as f64;
+    // Each further hundred sits 1.3 or 2.6 m off the first, alternately on either side, so that
+    // the copies do not coincide and stay inside the walking bounds.
+    const SHIFTS: [f64; 5] = [0.0, 1.3, -1.3, 2.6, -2.6];
+    let shift = SHIFTS[(i / 100) as usize % SHIFTS.len()];
     match &mut target.motion {
         Motion::ConstantVelocity(cv) => {
             cv.position[0] += shift;
@@ -208,4 +211,32 @@ fn position_sensors() -> Vec<SensorSpec> {
             }),
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_scaled_scenario_of_the_cost_table_is_valid() {
+        for targets in [10, 50, 200, 500] {
+            for sensors in [4, 8, 16, 32] {
+                let scenario = dense_scaled(targets, sensors);
+                assert_eq!(scenario.targets.len() as u64, targets);
+                assert_eq!(scenario.sensors.len(), sensors);
+                scenario
+                    .validate()
+                    .unwrap_or_else(|e| panic!("{targets} targets, {sensors} sensors: {e}"));
+            }
+        }
+    }
+
+    #[test]
+    fn scaling_to_fifty_targets_and_eight_sensors_is_the_dense_scenario() {
+        let (scaled, dense) = (dense_scaled(50, 8), dense());
+        assert_eq!(
+            format!("{:?}", scaled.targets),
+            format!("{:?}", dense.targets)
+        );
+    }
 }

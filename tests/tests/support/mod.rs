@@ -21,7 +21,11 @@ pub struct Hub {
 impl Hub {
     /// Opens a router session listening on a free loopback port, scouting off.
     pub async fn start() -> anyhow::Result<Self> {
-        let endpoint = format!("tcp/127.0.0.1:{}", free_port()?);
+        Self::start_at(format!("tcp/127.0.0.1:{}", free_port()?)).await
+    }
+
+    /// Opens a router session listening on `endpoint`, scouting off.
+    pub async fn start_at(endpoint: String) -> anyhow::Result<Self> {
         let mut config = zenoh::Config::default();
         let set = |config: &mut zenoh::Config, key: &str, value: &str| {
             config
