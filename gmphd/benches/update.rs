@@ -25,7 +25,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use gmphd::reduce::Reducer;
-use gmphd::update::{update_gated, update_intensity, UpdateStep};
+use gmphd::update::{update_intensity, UpdateStep, Updater};
 use gmphd::{
     ConstantVelocity, Detection, Gating, Gaussian, GaussianMixture, Label, Measurement,
     MeasurementModel, MicPair, PinholeCamera, PositionSensor, PruneMergeCap, UnscentedParams,
@@ -145,13 +145,16 @@ fn bench_updates(c: &mut Criterion<BenchClock>) {
                         sensor: sensor.as_ref(),
                         unscented: &unscented,
                     };
+                    // The filter's own updater, kept from one update to the next.
+                    let mut updater = Updater::new(unscented, gating).unwrap();
                     let id = BenchmarkId::new(format!("J{j}"), format!("Z{z}"));
                     group.bench_with_input(id, &(predicted, set), |b, (predicted, set)| {
                         b.iter(|| {
                             if exact {
                                 update_intensity(black_box(predicted), &step, black_box(set))
                             } else {
-                                update_gated(black_box(predicted), &step, &gating, set)
+                                updater
+                                    .update(black_box(predicted), &motion, step.sensor, set)
                                     .map(|outcome| outcome.posterior)
                             }
                         })

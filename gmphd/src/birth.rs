@@ -131,53 +131,7 @@ impl GridBirth {
     /// Builds the grid; fails on an empty or inverted box, zero cells, a state too
     /// small for the positions, or a negative rate or spread.
     pub fn new(config: &GridBirthConfig) -> Result<Self, FilterError> {
-        let dims = config.region_min.len();
-        if dims != 2 && dims != 3 {
-            return Err(invalid("grid birth region", "must have 2 or 3 coordinates"));
-        }
-        if config.region_max.len() != dims || config.cells.len() != dims {
-            return Err(FilterError::DimensionMismatch {
-                what: "grid birth region max / cells",
-                expected: dims,
-                found: config.region_max.len().min(config.cells.len()),
-            });
-        }
-        let velocity_dims = if config.state_dim == dims {
-            0
-        } else if config.state_dim >= 2 * dims {
-            dims
-        } else {
-            return Err(invalid(
-                "grid birth state size",
-                format!(
-                    "{} cannot hold {dims} positions (and velocities)",
-                    config.state_dim
-                ),
-            ));
-        };
-        let box_ok = config
-            .region_min
-            .iter()
-            .zip(&config.region_max)
-            .all(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo < hi);
-        if !box_ok || config.cells.contains(&0) {
-            return Err(invalid(
-                "grid birth region",
-                "needs min < max on every axis and at least one cell per axis",
-            ));
-        }
-        for (value, name) in [
-            (config.velocity_std, "grid birth velocity std"),
-            (config.extra_std, "grid birth extra std"),
-            (config.total_rate, "grid birth rate"),
-        ] {
-            if !(value >= 0.0 && value.is_finite()) {
-                return Err(invalid(
-                    name,
-                    format!("{value} is not a finite number >= 0"),
-                ));
-            }
-        }
+        let (dims, velocity_dims) = config.validate()?;
         let cell_size: Vec<f64> = (0..dims)
             .map(|i| (config.region_max[i] - config.region_min[i]) / config.cells[i] as f64)
             .collect();
@@ -211,6 +165,62 @@ impl GridBirth {
         Ok(Self {
             mixture: MixtureBirth::new(config.state_dim, components, config.timing)?,
         })
+    }
+}
+
+impl GridBirthConfig {
+    /// Checks the grid: 2 or 3 coordinates, min < max, at least one cell per axis, a state
+    /// that holds the positions (and velocities), finite rates and spreads ≥ 0. Returns
+    /// the number of position and of velocity entries.
+    fn validate(&self) -> Result<(usize, usize), FilterError> {
+        let dims = self.region_min.len();
+        if dims != 2 && dims != 3 {
+            return Err(invalid("grid birth region", "must have 2 or 3 coordinates"));
+        }
+        if self.region_max.len() != dims || self.cells.len() != dims {
+            return Err(FilterError::DimensionMismatch {
+                what: "grid birth region max / cells",
+                expected: dims,
+                found: self.region_max.len().min(self.cells.len()),
+            });
+        }
+        let velocity_dims = if self.state_dim == dims {
+            0
+        } else if self.state_dim >= 2 * dims {
+            dims
+        } else {
+            return Err(invalid(
+                "grid birth state size",
+                format!(
+                    "{} cannot hold {dims} positions (and velocities)",
+                    self.state_dim
+                ),
+            ));
+        };
+        let box_ok = self
+            .region_min
+            .iter()
+            .zip(&self.region_max)
+            .all(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo < hi);
+        if !box_ok || self.cells.contains(&0) {
+            return Err(invalid(
+                "grid birth region",
+                "needs min < max on every axis and at least one cell per axis",
+            ));
+        }
+        for (value, name) in [
+            (self.velocity_std, "grid birth velocity std"),
+            (self.extra_std, "grid birth extra std"),
+            (self.total_rate, "grid birth rate"),
+        ] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(invalid(
+                    name,
+                    format!("{value} is not a finite number >= 0"),
+                ));
+            }
+        }
+        Ok((dims, velocity_dims))
     }
 }
 

@@ -16,7 +16,7 @@ use crate::predict::{predict_intensity, PredictionStep, Survival, SurvivalRegion
 use crate::reduce::{Ancestry, Reducer};
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
-use crate::update::{update_parts, BirthProjections, StaticBirths, UpdateStep};
+use crate::update::Updater;
 
 /// Settings of the recursion that are not models.
 ///
@@ -72,7 +72,8 @@ pub struct GmPhdFilter {
     spawn: Option<SpawnModel>,
     reducer: Box<dyn Reducer>,
     config: FilterConfig,
-    gating: Gating,
+    /// The update, with its gates, scratch space and remembered birth projections.
+    updater: Updater,
     intensity: GaussianMixture,
     time: f64,
     labels: LabelSource,
@@ -88,11 +89,6 @@ pub struct GmPhdFilter {
     /// children under different measurements get labels of their own
     /// ([`crate::newborn`]).
     newborn: Range<u64>,
-    /// Indices of the static model's births in the intensity, from the latest prediction
-    /// that added them until the next update.
-    static_births: Range<usize>,
-    /// Their unscented projections per sensor, remembered for the next births.
-    birth_projections: BirthProjections,
 }
 
 impl GmPhdFilter {
@@ -121,8 +117,8 @@ impl GmPhdFilter {
             adaptive_birth: None,
             spawn: None,
             reducer,
+            updater: Updater::new(config.unscented, Gating::default())?,
             config,
-            gating: Gating::default(),
             intensity: GaussianMixture::new(),
             time: start_time,
             labels: LabelSource::default(),
@@ -131,8 +127,6 @@ impl GmPhdFilter {
             birth_owed_s: 0.0,
             last_association: Vec::new(),
             newborn: 0..0,
-            static_births: 0..0,
-            birth_projections: BirthProjections::default(),
         })
     }
 
@@ -183,14 +177,13 @@ impl GmPhdFilter {
     /// Replaces the gating of component–measurement pairs in the update ([`Gating::default`]
     /// unless set; [`Gating::OFF`] for the exact update).
     pub fn with_gating(mut self, gating: Gating) -> Result<Self, FilterError> {
-        gating.validate()?;
-        self.gating = gating;
+        self.updater = Updater::new(self.config.unscented, gating)?;
         Ok(self)
     }
 
     /// The gating of component–measurement pairs in the update.
     pub fn gating(&self) -> &Gating {
-        &self.gating
+        self.updater.gating()
     }
 
     /// Adds Vo & Ma's spawning to the prediction.
@@ -208,22 +201,23 @@ impl GmPhdFilter {
 
     /// The remembered projections of the static births.
     #[cfg(test)]
-    pub(crate) fn birth_projections(&self) -> &BirthProjections {
-        &self.birth_projections
+    pub(crate) fn birth_projections(&self) -> &crate::update::BirthProjections {
+        self.updater.birth_projections()
     }
 
-    /// Moves the intensity out, leaving it empty until
-    /// [`GmPhdFilter::set_relabelled_intensity`] puts it back.
-    pub(crate) fn take_intensity(&mut self) -> GaussianMixture {
-        std::mem::take(&mut self.intensity)
-    }
-
-    /// Replaces the intensity by a relabelling of itself (labels changed, components split
-    /// into equal-weight copies): every component is already valid, so only the label
-    /// source is advanced.
-    pub(crate) fn set_relabelled_intensity(&mut self, intensity: GaussianMixture) {
-        self.skip_used_labels(&intensity);
-        self.intensity = intensity;
+    /// Changes the labels of the intensity's components with `relabel` (which may also
+    /// split a component into equal-weight copies, each already valid); labels it used are
+    /// never handed out again.
+    pub(crate) fn relabel_intensity<R>(
+        &mut self,
+        relabel: impl FnOnce(&mut GaussianMixture) -> R,
+    ) -> R {
+        let result = relabel(&mut self.intensity);
+        let highest = self.intensity.iter().map(|c| c.label.0).max().unwrap_or(0);
+        if highest >= self.labels.peek() {
+            self.labels = LabelSource::starting_at(highest + 1);
+        }
+        result
     }
 
     /// Replaces the intensity (e.g. a known initial prior). Labels already in it
@@ -278,7 +272,8 @@ impl GmPhdFilter {
         predict_intensity(&mut self.intensity, &step, births, &mut self.labels)?;
         // Appended last, the static births first.
         let first_birth = self.intensity.len() - birth_count;
-        self.static_births = first_birth..first_birth + static_count;
+        self.updater
+            .expect_static_births(first_birth..first_birth + static_count);
         self.newborn = first_newborn..self.labels.peek();
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.clear();
@@ -298,7 +293,7 @@ impl GmPhdFilter {
         sensor: &dyn MeasurementModel,
         measurements: &[Measurement],
     ) -> Result<(), FilterError> {
-        self.update_with_floor(sensor, measurements, self.gating.min_weight)
+        self.update_with_floor(sensor, measurements, self.updater.gating().min_weight)
     }
 
     /// [`GmPhdFilter::update`] followed at once by [`GmPhdFilter::reduce`]; returns what
@@ -314,7 +309,11 @@ impl GmPhdFilter {
         sensor: &dyn MeasurementModel,
         measurements: &[Measurement],
     ) -> Result<Ancestry, FilterError> {
-        let floor = self.gating.min_weight.max(self.reducer.prune_threshold());
+        let floor = self
+            .updater
+            .gating()
+            .min_weight
+            .max(self.reducer.prune_threshold());
         self.update_with_floor(sensor, measurements, floor)?;
         let posterior = std::mem::take(&mut self.intensity);
         let reduction = self.reducer.reduce_recording(posterior);
@@ -328,47 +327,18 @@ impl GmPhdFilter {
         measurements: &[Measurement],
         min_weight: f64,
     ) -> Result<(), FilterError> {
-        let gating = Gating {
-            min_weight,
-            ..self.gating
-        };
-        let step = UpdateStep {
-            motion: self.motion.as_ref(),
+        let association = self.updater.update_moving(
+            &mut self.intensity,
+            self.motion.as_ref(),
             sensor,
-            unscented: &self.config.unscented,
-        };
-        // (The remembered projections are checked against each component, so a stale range
-        // costs only the check.)
-        let range = std::mem::take(&mut self.static_births);
-        let births = match sensor.projection_fingerprint() {
-            Some(fingerprint) if !range.is_empty() => Some(StaticBirths {
-                range,
-                memo: self.birth_projections.for_sensor(fingerprint),
-            }),
-            _ => None,
-        };
-        let no_first = |_: &[(usize, f64)]| Vec::new();
-        let parts = update_parts(
-            &self.intensity,
-            &step,
-            &gating,
             measurements,
-            no_first,
-            births,
+            min_weight,
         )?;
-        // The prior is not needed any more: its components are moved, not copied.
-        let outcome = parts.moving_from(std::mem::take(&mut self.intensity));
         if let Some(adaptive) = &mut self.adaptive_birth {
-            adaptive.record(
-                self.motion.as_ref(),
-                sensor,
-                measurements,
-                &outcome.association,
-            );
+            adaptive.record(self.motion.as_ref(), sensor, measurements, &association);
         }
-        self.intensity = outcome.posterior;
         separate_newborn_children(&mut self.intensity, &self.newborn, &mut self.labels);
-        self.last_association = outcome.association;
+        self.last_association = association;
         Ok(())
     }
 

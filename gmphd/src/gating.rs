@@ -34,9 +34,8 @@
 //! Both are on by default in [`GmPhdFilter`](crate::GmPhdFilter); [`Gating::OFF`] gives the
 //! exact update (every pair of non-zero weight is emitted).
 
-use std::cell::RefCell;
-
 use serde::{Deserialize, Serialize};
+use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use crate::error::{invalid, FilterError};
 
@@ -95,130 +94,18 @@ impl Gating {
     }
 }
 
-/// ln Γ(a + 1) for a half-integer or integer a = k/2 ≥ 0, by the recursion
-/// Γ(a + 1) = a Γ(a) from Γ(1) = 1 or Γ(1/2) = √π.
-fn ln_gamma_half_integer_plus_one(k: usize) -> f64 {
-    let mut a = k as f64 / 2.0;
-    let mut ln = if k.is_multiple_of(2) {
-        0.0
-    } else {
-        0.5 * std::f64::consts::PI.ln()
-    };
-    while a > 0.0 {
-        ln += a.ln();
-        a -= 1.0;
-    }
-    ln
-}
-
-/// The χ² distribution function with `dof` degrees of freedom at `x` ≥ 0, and its density:
-/// the regularised lower incomplete gamma P(k/2, x/2) by its power series
-/// P(a, y) = yᵃ e^{−y} / Γ(a + 1) · Σₙ yⁿ / ((a + 1)…(a + n)), which converges for every y
-/// (the quantiles used as gates have y ≲ 30, where it needs well under 100 terms).
-fn chi_square_cdf_and_pdf(x: f64, dof: usize) -> (f64, f64) {
-    if x <= 0.0 {
-        return (0.0, if dof == 2 { 0.5 } else { 0.0 });
-    }
-    let a = dof as f64 / 2.0;
-    let y = x / 2.0;
-    let ln_prefactor = a * y.ln() - y - ln_gamma_half_integer_plus_one(dof);
-    let mut term = 1.0;
-    let mut sum = 1.0;
-    let mut n = 1.0;
-    while term > sum * 1e-17 && n < 1000.0 {
-        term *= y / (a + n);
-        sum += term;
-        n += 1.0;
-    }
-    let cdf = (ln_prefactor.exp() * sum).min(1.0);
-    // d/dx P(a, x/2) = (x/2)^(a−1) e^(−x/2) / (2 Γ(a)) = prefactor · a / x.
-    let pdf = ln_prefactor.exp() * a / x;
-    (cdf, pdf)
-}
-
-/// The `p` quantile of the χ² distribution with `dof` ≥ 1 degrees of freedom, p ∈ (0, 1).
-///
-/// Newton's method on the distribution function from the Wilson–Hilferty approximation,
-/// kept inside a bracket that bisection shrinks whenever a Newton step would leave it;
-/// accurate to about 1e-12 relative.
-///
-/// Each thread remembers the last few quantiles it computed: every update asks for its
-/// gate's, and the iteration costs about as much as a small update's scoring of a pair
-/// per measurement.
+/// The `p` quantile of the χ² distribution with `dof` ≥ 1 degrees of freedom, p ∈ (0, 1)
+/// (NaN outside those).
 pub fn chi_square_quantile(p: f64, dof: usize) -> f64 {
-    /// Quantiles kept per thread (a filter asks for one per sensor size and one more).
-    const REMEMBERED: usize = 8;
-    thread_local! {
-        static RECENT: RefCell<Vec<(u64, usize, f64)>> = const { RefCell::new(Vec::new()) };
+    match ChiSquared::new(dof as f64) {
+        Ok(distribution) if p > 0.0 && p < 1.0 => distribution.inverse_cdf(p),
+        _ => f64::NAN,
     }
-    let key = (p.to_bits(), dof);
-    RECENT.with_borrow_mut(|recent| {
-        if let Some(&(_, _, x)) = recent.iter().find(|(bits, k, _)| (*bits, *k) == key) {
-            return x;
-        }
-        let x = compute_chi_square_quantile(p, dof);
-        if recent.len() == REMEMBERED {
-            recent.remove(0);
-        }
-        recent.push((key.0, key.1, x));
-        x
-    })
-}
-
-/// [`chi_square_quantile`], computed.
-fn compute_chi_square_quantile(p: f64, dof: usize) -> f64 {
-    let k = dof as f64;
-    // Wilson–Hilferty: (X/k)^(1/3) is nearly normal with mean 1 − 2/(9k), variance 2/(9k);
-    // the normal quantile from a rough inverse of its tail (enough for a starting point).
-    let tail = (1.0 - p).max(f64::MIN_POSITIVE);
-    let t = (-2.0 * tail.min(p).ln()).sqrt();
-    let z_abs = t
-        - (2.515517 + 0.802853 * t + 0.010328 * t * t)
-            / (1.0 + 1.432788 * t + 0.189269 * t * t + 0.001308 * t * t * t);
-    let z = if p >= 0.5 { z_abs } else { -z_abs };
-    let v = 2.0 / (9.0 * k);
-    let mut x = (k * (1.0 - v + z * v.sqrt()).powi(3)).max(1e-3);
-    let (mut lo, mut hi) = (0.0, f64::INFINITY);
-    for _ in 0..200 {
-        let (cdf, pdf) = chi_square_cdf_and_pdf(x, dof);
-        if cdf < p {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let newton = x - (cdf - p) / pdf;
-        let next = if newton > lo && newton < hi && newton.is_finite() {
-            newton
-        } else if hi.is_finite() {
-            0.5 * (lo + hi)
-        } else {
-            2.0 * x.max(1.0)
-        };
-        if (next - x).abs() <= 1e-13 * x.max(1e-300) {
-            return next;
-        }
-        x = next;
-    }
-    x
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Remembered quantiles are the computed ones, also after more distinct ones than the
-    /// memory holds have pushed them out.
-    #[test]
-    fn remembered_quantiles_are_the_computed_ones() {
-        for round in 0..3 {
-            for dof in 1..=12 {
-                let p = 0.9 + 0.001 * (dof + round) as f64;
-                let expected = compute_chi_square_quantile(p, dof);
-                assert_eq!(chi_square_quantile(p, dof).to_bits(), expected.to_bits());
-                assert_eq!(chi_square_quantile(p, dof).to_bits(), expected.to_bits());
-            }
-        }
-    }
 
     #[test]
     fn quantiles_match_tables_and_closed_forms() {

@@ -233,10 +233,32 @@ pub fn associate_labels(
             .map(|p| &p.predicted)
             .chain(current.iter().map(|c| &c.mean)),
     )?;
-    // The previous labels, sorted, with their rows: looked up by binary search.
+    let rows = rows_by_label(previous)?;
+    let costs = SparseCosts::new(
+        previous.len(),
+        current.len(),
+        allowed_pairs(previous, current, &rows),
+    )?;
+    let mut labels: Vec<Option<Label>> = vec![None; current.len()];
+    let mut origins = vec![LabelOrigin::Fresh; current.len()];
+    let mut taken = BTreeSet::new();
+    for pair in min_cost_matching_sparse(&costs) {
+        labels[pair.col] = Some(previous[pair.row].label);
+        origins[pair.col] = LabelOrigin::Matched { previous: pair.row };
+        taken.insert(previous[pair.row].label);
+    }
+    label_unmatched(current, &mut labels, &mut origins, &mut taken, source);
+    Ok(Relabelling {
+        labels: labels.into_iter().flatten().collect(),
+        origins,
+    })
+}
+
+/// The previous labels, sorted, with their rows (looked up by binary search); an error
+/// for a repeated label (the one repeated first in `previous`'s order).
+fn rows_by_label(previous: &[PreviousEstimate]) -> Result<Vec<(Label, usize)>, LabelError> {
     let mut rows: Vec<(Label, usize)> = previous.iter().map(|p| p.label).zip(0..).collect();
     rows.sort_unstable();
-    // A repeated label: the one repeated first in `previous`'s order.
     if let Some(dup) = rows
         .windows(2)
         .filter(|pair| pair[0].0 == pair[1].0)
@@ -244,31 +266,39 @@ pub fn associate_labels(
     {
         return Err(LabelError::DuplicatePreviousLabel(dup[0].0 .0));
     }
-    let row_of = |label: Label| label_position(&rows, label).map(|k| rows[k].1);
+    Ok(rows)
+}
 
-    // Pham (4.2): an edge exists only where the previous label is inherited — or where a
-    // coasting established identity reaches an estimate of newborn or tentative descent.
-    let newborn: Vec<bool> = current
-        .iter()
-        .map(|c| {
-            !c.inherited
-                .labels()
-                .any(|label| row_of(label).is_some_and(|j| previous[j].established))
-        })
-        .collect();
-    // Only allowed pairs are visited: each estimate's inherited labels, looked up among the
-    // previous labels, and the few coasting identities that may reach.
+/// (previous j, current i, cost) of each pair the matching may choose.
+///
+/// Pham (4.2): an edge exists only where the previous label is inherited — or where a
+/// coasting established identity reaches an estimate of newborn or tentative descent. Only
+/// allowed pairs are visited: each estimate's inherited labels, looked up among the
+/// previous labels (`rows`), and the few coasting identities that may reach. The cost is
+/// the distance, plus, for a pair continuing a tentative label, more than any total
+/// distance, so that fewer tentative (more established) continuations always win; see
+/// [`associate_labels`].
+fn allowed_pairs(
+    previous: &[PreviousEstimate],
+    current: &[CurrentEstimate],
+    rows: &[(Label, usize)],
+) -> Vec<(usize, usize, f64)> {
+    let row_of = |label: Label| label_position(rows, label).map(|k| rows[k].1);
+    let newborn = |c: &CurrentEstimate| {
+        !c.inherited
+            .labels()
+            .any(|label| row_of(label).is_some_and(|j| previous[j].established))
+    };
     let reaching: Vec<usize> = (0..previous.len())
         .filter(|&j| previous[j].established && previous[j].reach > 0.0)
         .collect();
-    // (previous j, current i, distance) of each allowed pair.
     let mut allowed = Vec::with_capacity(current.len() + reaching.len());
     for (i, to) in current.iter().enumerate() {
         let first = allowed.len();
         for j in to.inherited.labels().filter_map(row_of) {
             allowed.push((j, i, euclidean(&to.mean, &previous[j].predicted)));
         }
-        if newborn[i] {
+        if newborn(to) {
             for &j in &reaching {
                 let from = &previous[j];
                 let d = euclidean(&to.mean, &from.predicted);
@@ -279,8 +309,6 @@ pub fn associate_labels(
             }
         }
     }
-    // A pair continuing a tentative label costs more than any total distance, so that
-    // fewer tentative (more established) continuations always win; see the doc above.
     let longest = allowed.iter().fold(0.0_f64, |a, &(_, _, d)| a.max(d));
     let tentative_cost = 1.0 + longest * previous.len().min(current.len()) as f64;
     for (j, _, d) in &mut allowed {
@@ -288,16 +316,18 @@ pub fn associate_labels(
             *d += tentative_cost;
         }
     }
-    let costs = SparseCosts::new(previous.len(), current.len(), allowed)?;
-    let mut labels: Vec<Option<Label>> = vec![None; current.len()];
-    let mut origins = vec![LabelOrigin::Fresh; current.len()];
-    let mut taken = BTreeSet::new();
-    for pair in min_cost_matching_sparse(&costs) {
-        labels[pair.col] = Some(previous[pair.row].label);
-        origins[pair.col] = LabelOrigin::Matched { previous: pair.row };
-        taken.insert(previous[pair.row].label);
-    }
+    allowed
+}
 
+/// Labels the estimates the matching left without one, heaviest first: the heaviest
+/// inherited label no one took, or a fresh one from `source`.
+fn label_unmatched(
+    current: &[CurrentEstimate],
+    labels: &mut [Option<Label>],
+    origins: &mut [LabelOrigin],
+    taken: &mut BTreeSet<Label>,
+    source: &mut LabelSource,
+) {
     let mut unmatched: Vec<usize> = (0..current.len())
         .filter(|&i| labels[i].is_none())
         .collect();
@@ -324,10 +354,6 @@ pub fn associate_labels(
         taken.insert(label);
         labels[i] = Some(label);
     }
-    Ok(Relabelling {
-        labels: labels.into_iter().flatten().collect(),
-        origins,
-    })
 }
 
 /// |a − b| without allocating (the vectors have one dimension, checked by the caller).

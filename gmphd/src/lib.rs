@@ -10,6 +10,7 @@
 pub mod adaptive_birth;
 pub mod assignment;
 pub mod birth;
+mod continuity;
 pub mod error;
 pub mod extract;
 pub mod filter;
@@ -23,6 +24,7 @@ pub mod motion;
 mod newborn;
 pub mod predict;
 pub mod reduce;
+pub mod reference;
 pub mod spawn;
 mod sweep;
 pub mod tracker;
@@ -38,7 +40,7 @@ pub use gating::Gating;
 pub use gaussian::{Gaussian, GaussianMixture, Label, LabelSource};
 pub use measurement::{
     BearingRange, Detection, HeightPrior, Lidar, Measurement, MeasurementModel, MicPair,
-    PinholeCamera, PositionSensor,
+    PinholeCamera, PositionSensor, UpdateHints,
 };
 pub use motion::{ConstantVelocity, CoordinatedTurn, MotionModel, RandomWalk};
 pub use predict::{Survival, SurvivalRegion};

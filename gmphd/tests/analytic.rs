@@ -25,8 +25,8 @@ impl MeasurementModel for ForcedUnscented {
     fn dim(&self) -> usize {
         self.0.dim()
     }
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        self.0.measure(p)
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
+        self.0.measure_into(p, out)
     }
     fn noise_cov(&self) -> DMatrix<f64> {
         self.0.noise_cov()
@@ -39,9 +39,6 @@ impl MeasurementModel for ForcedUnscented {
     }
     fn clutter_density(&self) -> f64 {
         self.0.clutter_density()
-    }
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        self.0.residual(z, zhat)
     }
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {
         self.0.sample_clutter(u)

@@ -244,17 +244,14 @@ fn bad_gating_is_a_typed_error() {
     assert_eq!(filter.gating(), &Gating::OFF);
 }
 
-/// A sensor exactly like the one it wraps, except that it names no index dimension, so the
-/// update tests every pair.
+/// A sensor exactly like the one it wraps, except that it gives no update hints (no index
+/// dimension), so the update tests every pair.
 #[derive(Debug)]
 struct Unindexed<'a>(&'a dyn MeasurementModel);
 
 impl MeasurementModel for Unindexed<'_> {
     fn dim(&self) -> usize {
         self.0.dim()
-    }
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        self.0.measure(p)
     }
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         self.0.measure_into(p, out)
@@ -271,11 +268,8 @@ impl MeasurementModel for Unindexed<'_> {
     fn clutter_density(&self) -> f64 {
         self.0.clutter_density()
     }
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        self.0.residual(z, zhat)
-    }
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        self.0.residual_into(z, zhat, out)
+    fn angular_entries(&self) -> &[usize] {
+        self.0.angular_entries()
     }
     fn linear_position_dims(&self) -> Option<usize> {
         self.0.linear_position_dims()
@@ -334,7 +328,7 @@ fn the_candidate_index_changes_nothing() {
             update_gated(&prior, &step, &Gating::default(), &set).unwrap()
         };
         let indexed = update(sensor.as_ref());
-        assert!(sensor.index_dim().is_some());
+        assert!(sensor.update_hints().index_dim.is_some());
         assert_eq!(indexed, update(&unindexed), "{sensor:?}");
         assert!(indexed.posterior.len() > prior.len(), "{sensor:?}");
     }

@@ -131,28 +131,7 @@ pub fn apply_relabelling(
         .zip(relabelling.labels.iter().copied())
         .collect();
     labels_by_source.sort_by_key(|&(source, _)| source);
-    // Each owning estimate's old label → its new one (the heaviest owner's, the first of
-    // equal weights), sorted by old label: looked up by binary search.
-    let mut owners: Vec<(Label, f64, Label)> = estimates
-        .iter()
-        .zip(&relabelling.labels)
-        .filter(|(estimate, _)| !estimate.is_extra_copy())
-        .map(|(estimate, &new_label)| (estimate.label, estimate.weight, new_label))
-        .collect();
-    // (Stable: owners of one label stay in estimate order.)
-    owners.sort_by_key(|&(label, _, _)| label);
-    let group_rename: Vec<(Label, Label)> = owners
-        .chunk_by(|a, b| a.0 == b.0)
-        .map(|run| {
-            // The first of the heaviest: a later owner replaces it only when strictly heavier.
-            let heaviest = run
-                .iter()
-                .copied()
-                .reduce(|best, owner| if owner.1 > best.1 { owner } else { best })
-                .expect("a run is not empty");
-            (heaviest.0, heaviest.2)
-        })
-        .collect();
+    let group_rename = group_renames(estimates, relabelling);
     let renamed = |label: Label| label_position(&group_rename, label).map(|k| group_rename[k].1);
     let mut claimed: Vec<Label> = relabelling.labels.clone();
     claimed.sort_unstable();
@@ -198,4 +177,29 @@ pub fn apply_relabelling(
         mixture.components.push(Gaussian { label, ..component });
     }
     Ok(())
+}
+
+/// Each owning estimate's old label → its new one (the heaviest owner's, the first of
+/// equal weights), sorted by old label (looked up by binary search).
+fn group_renames(estimates: &[Estimate], relabelling: &Relabelling) -> Vec<(Label, Label)> {
+    let mut owners: Vec<(Label, f64, Label)> = estimates
+        .iter()
+        .zip(&relabelling.labels)
+        .filter(|(estimate, _)| !estimate.is_extra_copy())
+        .map(|(estimate, &new_label)| (estimate.label, estimate.weight, new_label))
+        .collect();
+    // (Stable: owners of one label stay in estimate order.)
+    owners.sort_by_key(|&(label, _, _)| label);
+    owners
+        .chunk_by(|a, b| a.0 == b.0)
+        .map(|run| {
+            // The first of the heaviest: a later owner replaces it only when strictly heavier.
+            let heaviest = run
+                .iter()
+                .copied()
+                .reduce(|best, owner| if owner.1 > best.1 { owner } else { best })
+                .expect("a run is not empty");
+            (heaviest.0, heaviest.2)
+        })
+        .collect()
 }

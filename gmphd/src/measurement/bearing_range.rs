@@ -5,9 +5,11 @@ use std::f64::consts::{PI, TAU};
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, fingerprint, finite_point, invertible_input, positive,
-    wrapped_residual, Detection, HeightPrior, MeasurementModel, DEFAULT_HEIGHT_STD,
+    check_uniforms, diagonal_noise, finite_point, hints_of, invertible_input, positive, Detection,
+    HeightPrior, MeasurementModel, UpdateHints, DEFAULT_HEIGHT_STD,
 };
+use serde::Serialize;
+
 use crate::error::FilterError;
 
 /// The measurement entry that is an angle (the bearing): its residual is wrapped.
@@ -19,7 +21,7 @@ const ANGULAR: [usize; 1] = [0];
 /// Detectable within `max_range`; clutter is uniform over [−π, π) × [0, max_range].
 /// Heights are not measured: inverted points take the height of the sensor's
 /// [`HeightPrior`] (by default the sensor's own height with a 10 m standard deviation).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BearingRange {
     position: Vector3<f64>,
     noise_cov: DMatrix<f64>,
@@ -59,12 +61,6 @@ impl MeasurementModel for BearingRange {
         2
     }
 
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        let mut z = DVector::zeros(2);
-        self.measure_into(p, z.as_mut_slice());
-        z
-    }
-
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         let dx = p.x - self.position.x;
         let dy = p.y - self.position.y;
@@ -93,21 +89,13 @@ impl MeasurementModel for BearingRange {
         1.0 / (TAU * self.max_range)
     }
 
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        wrapped_residual(z, zhat, &ANGULAR)
+    fn angular_entries(&self) -> &[usize] {
+        &ANGULAR
     }
 
-    fn wrapped_entries(&self) -> Option<&[usize]> {
-        Some(&ANGULAR)
-    }
-
-    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
-        Some(fingerprint(b"bearrang", self.position.iter().copied()))
-    }
-
-    /// Range: never wrapped.
-    fn index_dim(&self) -> Option<usize> {
-        Some(1)
+    /// Indexed by range, which is never wrapped.
+    fn update_hints(&self) -> UpdateHints {
+        hints_of(self, 1)
     }
 
     fn invert_with_noise(

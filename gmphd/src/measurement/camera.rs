@@ -2,7 +2,11 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3x4, Vector3, Vector4};
 
-use super::{check_uniforms, diagonal_noise, fingerprint, positive, Detection, MeasurementModel};
+use super::{
+    check_uniforms, diagonal_noise, hints_of, positive, Detection, MeasurementModel, UpdateHints,
+};
+use serde::Serialize;
+
 use crate::error::{invalid, FilterError};
 
 /// Smallest |homogeneous scale| used when projecting, so that a sigma point on the
@@ -13,7 +17,7 @@ const MIN_HOMOGENEOUS_SCALE: f64 = 1e-12;
 ///
 /// A point is detectable only in front of the camera and inside the image
 /// rectangle [0, width) × [0, height); clutter is uniform over that rectangle.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PinholeCamera {
     projection: Matrix3x4<f64>,
     /// +1 or -1: the sign that makes the third homogeneous coordinate a depth
@@ -73,12 +77,6 @@ impl MeasurementModel for PinholeCamera {
         2
     }
 
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        let mut z = DVector::zeros(2);
-        self.measure_into(p, z.as_mut_slice());
-        z
-    }
-
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         let h = self.homogeneous(p);
         let w = if h.z.abs() < MIN_HOMOGENEOUS_SCALE {
@@ -117,21 +115,9 @@ impl MeasurementModel for PinholeCamera {
         1.0 / (self.image_size[0] * self.image_size[1])
     }
 
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        z - zhat
-    }
-
-    fn wrapped_entries(&self) -> Option<&[usize]> {
-        Some(&[])
-    }
-
-    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
-        Some(fingerprint(b"pinhole\0", self.projection.iter().copied()))
-    }
-
-    /// U (pixels): never wrapped.
-    fn index_dim(&self) -> Option<usize> {
-        Some(0)
+    /// Indexed by u (pixels).
+    fn update_hints(&self) -> UpdateHints {
+        hints_of(self, 0)
     }
 
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {

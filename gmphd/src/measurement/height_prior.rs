@@ -2,6 +2,8 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 
+use serde::Serialize;
+
 use super::positive;
 use crate::error::{invalid, FilterError};
 
@@ -14,7 +16,7 @@ pub const DEFAULT_HEIGHT_STD: f64 = 10.0;
 /// a point inverted from its measurement gets `height` with standard deviation `std`,
 /// independent of the measured horizontal position. Irrelevant to 2-D states, which
 /// keep only the horizontal part.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct HeightPrior {
     height: f64,
     std: f64,

@@ -5,9 +5,11 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, fingerprint, finite_point, invertible_input, positive,
-    wrapped_residual, Detection, MeasurementModel,
+    check_uniforms, diagonal_noise, finite_point, hints_of, invertible_input, positive, Detection,
+    MeasurementModel, UpdateHints,
 };
+use serde::Serialize;
+
 use crate::error::{invalid, FilterError};
 
 /// The measurement entry that is an angle (the azimuth): its residual is wrapped.
@@ -21,7 +23,7 @@ const UNIT_QUATERNION_TOLERANCE: f64 = 1e-6;
 ///
 /// Detectable within `max_range` and the elevation limits; clutter is uniform over
 /// [0, max_range] × [−π, π) × [el_min, el_max].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Lidar {
     position: Vector3<f64>,
     /// Sensor → world rotation.
@@ -83,12 +85,6 @@ impl MeasurementModel for Lidar {
         3
     }
 
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        let mut z = DVector::zeros(3);
-        self.measure_into(p, z.as_mut_slice());
-        z
-    }
-
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         let s = self.to_sensor_frame(p);
         let horizontal = s.x.hypot(s.y);
@@ -120,25 +116,13 @@ impl MeasurementModel for Lidar {
         1.0 / (self.max_range * TAU * (el_max - el_min))
     }
 
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        wrapped_residual(z, zhat, &ANGULAR)
+    fn angular_entries(&self) -> &[usize] {
+        &ANGULAR
     }
 
-    fn wrapped_entries(&self) -> Option<&[usize]> {
-        Some(&ANGULAR)
-    }
-
-    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
-        let rotation = self.orientation.quaternion().coords;
-        Some(fingerprint(
-            b"lidar\0\0\0",
-            self.position.iter().chain(rotation.iter()).copied(),
-        ))
-    }
-
-    /// Range: never wrapped.
-    fn index_dim(&self) -> Option<usize> {
-        Some(0)
+    /// Indexed by range, which is never wrapped.
+    fn update_hints(&self) -> UpdateHints {
+        hints_of(self, 0)
     }
 
     fn invert_with_noise(

@@ -3,9 +3,11 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::{
-    check_uniforms, diagonal_noise, fingerprint, finite_point, positive, Detection,
-    MeasurementModel,
+    check_uniforms, diagonal_noise, finite_point, hints_of, positive, Detection, MeasurementModel,
+    UpdateHints,
 };
+use serde::Serialize;
+
 use crate::error::{invalid, FilterError};
 
 /// tau = (|x − m2| − |x − m1|) / c + noise (Pham eq. 5.25), in seconds.
@@ -13,7 +15,7 @@ use crate::error::{invalid, FilterError};
 /// The measurement region is [−d/c, d/c] with d the microphone spacing; every
 /// source is audible with the pair's detection probability (the direction is
 /// what a pair measures, so there is no range limit).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MicPair {
     m1: Vector3<f64>,
     m2: Vector3<f64>,
@@ -59,12 +61,6 @@ impl MeasurementModel for MicPair {
         1
     }
 
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        let mut z = DVector::zeros(1);
-        self.measure_into(p, z.as_mut_slice());
-        z
-    }
-
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         out[0] = ((p - self.m2).norm() - (p - self.m1).norm()) / self.speed_of_sound;
     }
@@ -85,25 +81,9 @@ impl MeasurementModel for MicPair {
         1.0 / (2.0 * self.max_delay())
     }
 
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        z - zhat
-    }
-
-    fn wrapped_entries(&self) -> Option<&[usize]> {
-        Some(&[])
-    }
-
-    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
-        let numbers = self.m1.iter().chain(self.m2.iter()).copied();
-        Some(fingerprint(
-            b"micpair\0",
-            numbers.chain([self.speed_of_sound]),
-        ))
-    }
-
-    /// The delay: never wrapped.
-    fn index_dim(&self) -> Option<usize> {
-        Some(0)
+    /// Indexed by the delay.
+    fn update_hints(&self) -> UpdateHints {
+        hints_of(self, 0)
     }
 
     fn sample_clutter(&self, u: &[f64]) -> Result<DVector<f64>, FilterError> {

@@ -22,6 +22,8 @@ pub use position::PositionSensor;
 
 use std::fmt::Debug;
 
+use serde::Serialize;
+
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use crate::error::{invalid, FilterError};
@@ -50,7 +52,7 @@ impl Measurement {
 }
 
 /// Detection probability and clutter rate, the two numbers every sensor carries.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Detection {
     /// Probability of detecting an object inside the field of view, in (0, 1].
     pub probability: f64,
@@ -81,19 +83,38 @@ impl Detection {
     }
 }
 
+/// What a model may tell the update so that it goes faster; every field's default (none)
+/// is right for any model and changes nothing but the speed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct UpdateHints {
+    /// A measurement entry that is not an angle
+    /// ([`MeasurementModel::angular_entries`]): the gated update sorts measurements along
+    /// it, so that each component meets only the measurements inside its gate's extent
+    /// there instead of every one. `None`: every pair is tested.
+    pub index_dim: Option<usize>,
+    /// Bytes that determine h entirely: two models with the same key measure every point
+    /// alike. The filter remembers the unscented projections of its static births (the
+    /// same components at every birth) per key. `None`: they are projected afresh each
+    /// time. The built-in models give their type name and their whole serialized selves, so
+    /// that no parameter can be left out.
+    pub projection_key: Option<Vec<u8>>,
+}
+
 /// A sensor's measurement model h(p) + noise, with its field of view and clutter.
 pub trait MeasurementModel: Send + Sync + Debug {
     /// Dimension of one measurement vector.
     fn dim(&self) -> usize;
 
-    /// Noise-free measurement h(p) of a 3-D world point.
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64>;
+    /// Noise-free measurement h(p) of a 3-D world point, written into `out` (length
+    /// `dim()`): the unscented update measures every sigma point of every component, and
+    /// must not allocate for each.
+    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]);
 
-    /// [`MeasurementModel::measure`] written into `out` (length `dim()`), for the
-    /// unscented update, which must not allocate per sigma point. The default goes
-    /// through `measure` (and allocates); the built-in models override it.
-    fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
-        out.copy_from_slice(self.measure(p).as_slice());
+    /// Noise-free measurement h(p) of a 3-D world point, as a vector of its own.
+    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
+        let mut z = DVector::zeros(self.dim());
+        self.measure_into(p, z.as_mut_slice());
+        z
     }
 
     /// Measurement noise covariance R (dim × dim).
@@ -115,50 +136,23 @@ pub trait MeasurementModel: Send + Sync + Debug {
         self.clutter_rate() * self.clutter_density()
     }
 
-    /// z − ẑ with angular components wrapped to [-pi, pi).
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64>;
-
-    /// [`MeasurementModel::residual`] written into `out` (all three of length `dim()`):
-    /// the update's per-pair loop must not allocate. The default computes it from
-    /// [`MeasurementModel::wrapped_entries`] when the model gives them (as the built-in models
-    /// do) and otherwise goes through `residual` (and allocates).
-    fn residual_into(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        if let Some(angular) = self.wrapped_entries() {
-            return wrapped_residual_into(z, zhat, angular, out);
-        }
-        let r = self.residual(
-            &DVector::from_column_slice(z),
-            &DVector::from_column_slice(zhat),
-        );
-        out.copy_from_slice(r.as_slice());
+    /// The entries of a measurement that are angles: the residual z − ẑ wraps them to
+    /// [-pi, pi) ([`MeasurementModel::residual`]). None by default.
+    fn angular_entries(&self) -> &[usize] {
+        &[]
     }
 
-    /// The entries [`MeasurementModel::residual`] wraps to [-pi, pi), when its residual is
-    /// exactly z − ẑ with those entries wrapped by [`wrap_angle`] — as for every model of
-    /// this crate. The update then computes the residual of each component–measurement
-    /// pair inline instead of through a call of `residual_into` per pair.
-    /// `None` (the default, right for any model) keeps `residual_into`.
-    fn wrapped_entries(&self) -> Option<&[usize]> {
-        None
+    /// z − ẑ with the [`MeasurementModel::angular_entries`] wrapped to [-pi, pi). The filter
+    /// computes every residual this way (from `angular_entries`, without calling this
+    /// method), so a model does not override it.
+    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
+        wrapped_residual(z, zhat, self.angular_entries())
     }
 
-    /// What [`MeasurementModel::measure_into`] and the residual compute, as numbers: the
-    /// model's kind and every parameter `measure_into` reads, as bits. Two models with the
-    /// same fingerprint must measure every point alike. The filter remembers the unscented
-    /// projections of its static births per fingerprint, since those components, and so
-    /// their projections, are the same at every birth. `None` (the default, right for any
-    /// model) projects them afresh each time; the built-in nonlinear models give one.
-    fn projection_fingerprint(&self) -> Option<Vec<u64>> {
-        None
-    }
-
-    /// A dimension whose residual is the plain difference z_i − ẑ_i (not an angle that
-    /// [`MeasurementModel::residual_into`] wraps). The gated update sorts measurements along
-    /// it so that each component meets only the measurements inside its gate's extent there,
-    /// instead of every measurement. `None` (the default, right for any model) makes the
-    /// update test every pair; the built-in models name their first unwrapped dimension.
-    fn index_dim(&self) -> Option<usize> {
-        None
+    /// What the update may use to go faster on this model; see [`UpdateHints`]. The
+    /// default, no hints, is right for any model.
+    fn update_hints(&self) -> UpdateHints {
+        UpdateHints::default()
     }
 
     /// `Some(d)` when h(p) = p[..d], i.e. the model is linear in the position and
@@ -258,7 +252,7 @@ pub(crate) fn wrapped_residual(
 }
 
 /// z − ẑ into `out` with the components listed in `angular` wrapped to [-pi, pi), without
-/// allocating (see [`MeasurementModel::residual_into`]).
+/// allocating.
 #[inline]
 pub(crate) fn wrapped_residual_into(z: &[f64], zhat: &[f64], angular: &[usize], out: &mut [f64]) {
     for ((o, a), b) in out.iter_mut().zip(z).zip(zhat) {
@@ -271,12 +265,19 @@ pub(crate) fn wrapped_residual_into(z: &[f64], zhat: &[f64], angular: &[usize], 
     }
 }
 
-/// A [`MeasurementModel::projection_fingerprint`]: the model's `kind` (a tag of its own
-/// among the models), then the bits of `parameters`.
-pub(crate) fn fingerprint(kind: &[u8; 8], parameters: impl IntoIterator<Item = f64>) -> Vec<u64> {
-    std::iter::once(u64::from_le_bytes(*kind))
-        .chain(parameters.into_iter().map(f64::to_bits))
-        .collect()
+/// The [`UpdateHints`] of a built-in model: measurements indexed along `index_dim`, and
+/// projections remembered under the model's type name and the model serialized whole
+/// (every field, so that a parameter added later is part of the key without anyone having
+/// to remember it; the name, because the serialization does not say which model it is).
+pub(crate) fn hints_of<T: Serialize>(model: &T, index_dim: usize) -> UpdateHints {
+    let name = std::any::type_name::<T>().as_bytes();
+    let mut key = Vec::with_capacity(name.len() + 1 + 8 * 32);
+    key.extend_from_slice(name);
+    key.push(0);
+    UpdateHints {
+        index_dim: Some(index_dim),
+        projection_key: postcard::to_extend(model, key).ok(),
+    }
 }
 
 /// True when `z` has `dim` finite entries and `noise` is a finite `dim` × `dim` matrix:
@@ -306,30 +307,24 @@ pub(crate) fn positive(value: f64, name: &'static str) -> Result<f64, FilterErro
     }
 }
 
-/// A model's residual as the update computes it for every pair: inline when the model
-/// declares it z − ẑ with some entries wrapped ([`MeasurementModel::wrapped_entries`]),
-/// through [`MeasurementModel::residual_into`] otherwise. Both give the same numbers.
+/// A model's residual as the update computes it for every pair, without allocating:
+/// z − ẑ with the model's angular entries wrapped.
 #[derive(Clone, Copy)]
 pub(crate) struct Residual<'a> {
-    sensor: &'a dyn MeasurementModel,
-    wrapped: Option<&'a [usize]>,
+    angular: &'a [usize],
 }
 
 impl<'a> Residual<'a> {
     /// The residual of `sensor`.
     pub(crate) fn of(sensor: &'a dyn MeasurementModel) -> Self {
         Self {
-            sensor,
-            wrapped: sensor.wrapped_entries(),
+            angular: sensor.angular_entries(),
         }
     }
 
     /// z − ẑ (wrapped as the model says) into `out`.
     #[inline]
     pub(crate) fn write(&self, z: &[f64], zhat: &[f64], out: &mut [f64]) {
-        match self.wrapped {
-            Some(angular) => wrapped_residual_into(z, zhat, angular, out),
-            None => self.sensor.residual_into(z, zhat, out),
-        }
+        wrapped_residual_into(z, zhat, self.angular, out)
     }
 }

@@ -4,7 +4,10 @@ use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector3};
 
 use super::{
     check_uniforms, diagonal_noise, invertible_input, Detection, HeightPrior, MeasurementModel,
+    UpdateHints,
 };
+use serde::Serialize;
+
 use crate::error::{invalid, FilterError};
 
 /// Measures the first `dims` world coordinates of an object, z = p[..dims] + noise,
@@ -12,7 +15,7 @@ use crate::error::{invalid, FilterError};
 ///
 /// A 2-D sensor does not see heights: its inverted points take the height of its
 /// [`HeightPrior`] (by default the ground plane with a 10 m standard deviation).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PositionSensor {
     dims: usize,
     noise_cov: DMatrix<f64>,
@@ -83,10 +86,6 @@ impl MeasurementModel for PositionSensor {
         self.dims
     }
 
-    fn measure(&self, p: &Vector3<f64>) -> DVector<f64> {
-        DVector::from_column_slice(&p.as_slice()[..self.dims])
-    }
-
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
         out.copy_from_slice(&p.as_slice()[..self.dims]);
     }
@@ -117,17 +116,12 @@ impl MeasurementModel for PositionSensor {
         1.0 / volume
     }
 
-    fn residual(&self, z: &DVector<f64>, zhat: &DVector<f64>) -> DVector<f64> {
-        z - zhat
-    }
-
-    fn wrapped_entries(&self) -> Option<&[usize]> {
-        Some(&[])
-    }
-
-    /// X: never wrapped.
-    fn index_dim(&self) -> Option<usize> {
-        Some(0)
+    /// Indexed by x. (Linear: nothing to remember of its projections.)
+    fn update_hints(&self) -> UpdateHints {
+        UpdateHints {
+            index_dim: Some(0),
+            projection_key: None,
+        }
     }
 
     fn linear_position_dims(&self) -> Option<usize> {

@@ -50,6 +50,11 @@ impl Probe {
 impl PruneMergeCap {
     /// Vo & Ma's clusters: indices into `mixture`, one cluster per reduced component in
     /// pivot (weight) order, each heaviest member first. Pruned components are in none.
+    ///
+    /// The loop of [`crate::reference::prune_merge_cap`]: each component not yet merged, by
+    /// weight, is a pivot that takes every later unmerged one within U — but a pivot meets
+    /// only the candidates a [`MergeIndex`] finds near it, and most of those fail a first
+    /// test on the leading coordinates ([`Probe`]) before the full distance is computed.
     pub(super) fn clusters(&self, mixture: &GaussianMixture) -> Clusters {
         let mut order: Vec<(Rank, &Gaussian)> = mixture
             .iter()
@@ -60,24 +65,100 @@ impl PruneMergeCap {
         // Ranks are distinct, so an unstable sort orders them as a stable one would.
         order.sort_unstable_by(|a, b| heaviest_first(&a.0, &b.0));
         let kept: Vec<&Gaussian> = order.iter().map(|(_, g)| *g).collect();
-        let probes: Vec<Probe> = kept
-            .iter()
-            .map(|g| Probe::new(g, self.merge_threshold))
-            .collect();
+        let mut index = MergeIndex::build(&kept, self.merge_threshold);
         // Vo & Ma measure the distance with the candidate's own covariance P_i.
         let mut gates = vec![MahalanobisGate::default(); kept.len()];
-        // The gate fails when the first coordinate alone is farther than √(U P_i,00), the
-        // candidate's reach. Components are sorted by first coordinate, so a pivot looks only
-        // at those within the largest reach of them; the few widest components (beyond the
-        // 90th percentile of reach) would make that window wide, so they are kept aside in a
-        // list of their own, searched with their own window. Merged components leave the
-        // sorted list (see `Unmerged`), so a pivot's window holds only components still to be
-        // clustered — all of them later than the pivot, as every earlier one has been a pivot
-        // or a member.
-        let first = |g: &Gaussian| g.mean.get(0).copied().unwrap_or(f64::NAN);
+        let mut unmerged = vec![true; kept.len()];
+        let (mut members, mut candidates, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+        let mut clusters = Clusters {
+            members: Vec::with_capacity(kept.len()),
+            ends: Vec::with_capacity(kept.len()),
+        };
+        for pivot in 0..kept.len() {
+            if !unmerged[pivot] {
+                continue;
+            }
+            let centre = &kept[pivot].mean;
+            members.clear();
+            members.push(pivot);
+            index.candidates(pivot, &unmerged, &mut candidates);
+            for &i in &candidates {
+                // (Only the full scan of a centre off the index gets here untested by the
+                // probe.)
+                if !unmerged[i] || index.probes[i].outside(&index.probes[pivot]) {
+                    continue;
+                }
+                let (candidate, gate) = (kept[i], &mut gates[i]);
+                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
+                let within = candidate.dim() == centre.len()
+                    && gate.contains(
+                        &candidate.cov,
+                        &candidate.mean,
+                        centre,
+                        self.merge_threshold,
+                        &mut scratch,
+                        robust,
+                    ) == Some(true);
+                if within {
+                    members.push(i);
+                }
+            }
+            for &i in &members {
+                unmerged[i] = false;
+                index.remove(i);
+            }
+            clusters
+                .members
+                .extend(members.iter().map(|&i| order[i].0 .2));
+            clusters.ends.push(clusters.members.len());
+        }
+        clusters
+    }
+}
+
+/// Where a pivot finds its merge candidates without testing every later component.
+///
+/// The gate fails when the first coordinate alone is farther than √(U P_i,00), the
+/// candidate's reach. Components are sorted by first coordinate, so a pivot looks only at
+/// those within the largest reach of them; the few widest components (beyond the 90th
+/// percentile of reach) would make that window wide, so they are kept aside in a list of
+/// their own, searched with their own window. Merged components leave the sorted list
+/// (see [`Unmerged`]), so a pivot's window holds only components still to be clustered —
+/// all of them later than the pivot, as every earlier one has been a pivot or a member.
+/// Only a component whose first coordinate or reach is not finite is tested against every
+/// pivot.
+struct MergeIndex {
+    probes: Vec<Probe>,
+    /// First coordinate of each kept component.
+    first: Vec<f64>,
+    /// (first coordinate, index) of the components of ordinary reach, sorted.
+    sorted: Vec<(f64, usize)>,
+    window: f64,
+    /// Each sorted component's run of neighbours within `window`.
+    runs: Vec<Option<(usize, usize)>>,
+    /// Position of each component in `sorted` (`usize::MAX`: not there).
+    position: Vec<usize>,
+    in_sorted: Unmerged,
+    /// The widest components, sorted likewise, and their largest reach.
+    wide: Vec<(f64, usize)>,
+    wide_window: f64,
+    unbounded: Vec<usize>,
+}
+
+impl MergeIndex {
+    /// The index of the `kept` components (in pivot order) for the merge threshold U.
+    fn build(kept: &[&Gaussian], merge_threshold: f64) -> Self {
+        let probes = kept
+            .iter()
+            .map(|g| Probe::new(g, merge_threshold))
+            .collect();
+        let first: Vec<f64> = kept
+            .iter()
+            .map(|g| g.mean.get(0).copied().unwrap_or(f64::NAN))
+            .collect();
         let reach: Vec<f64> = kept
             .iter()
-            .map(|g| (self.merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
+            .map(|g| (merge_threshold * g.cov.get((0, 0)).copied().unwrap_or(f64::NAN)).sqrt())
             .collect();
         let mut finite_reach: Vec<f64> = reach.iter().copied().filter(|r| r.is_finite()).collect();
         let window = if finite_reach.is_empty() {
@@ -86,18 +167,16 @@ impl PruneMergeCap {
             let at = finite_reach.len() * 9 / 10;
             *finite_reach.select_nth_unstable_by(at, f64::total_cmp).1
         };
-        // Only a component whose first coordinate or reach is not finite is tested against
-        // every pivot.
         let mut sorted = Vec::with_capacity(kept.len());
         let (mut wide, mut unbounded) = (Vec::new(), Vec::new());
         let mut wide_window = 0.0_f64;
-        for (i, g) in kept.iter().enumerate() {
-            if !(first(g).is_finite() && reach[i].is_finite()) {
+        for i in 0..kept.len() {
+            if !(first[i].is_finite() && reach[i].is_finite()) {
                 unbounded.push(i);
             } else if reach[i] <= window {
-                sorted.push((first(g), i));
+                sorted.push((first[i], i));
             } else {
-                wide.push((first(g), i));
+                wide.push((first[i], i));
                 wide_window = wide_window.max(reach[i]);
             }
         }
@@ -110,102 +189,63 @@ impl PruneMergeCap {
         for (k, &(_, i)) in sorted.iter().enumerate() {
             position[i] = k;
         }
-        let mut in_sorted = Unmerged::new(sorted.len());
-        let runs = sweep::runs_of_each(&sorted, window);
-
-        // Visited by weight: each component not yet merged is a pivot that takes every
-        // later unmerged one within U.
-        let mut unmerged = vec![true; kept.len()];
-        let mut members = Vec::new();
-        let mut candidates = Vec::new();
-        let mut scratch = Vec::new();
-        let mut clusters = Clusters {
-            members: Vec::with_capacity(kept.len()),
-            ends: Vec::with_capacity(kept.len()),
-        };
-        for pivot in 0..kept.len() {
-            if !unmerged[pivot] {
-                continue;
-            }
-            let centre = &kept[pivot].mean;
-            members.clear();
-            members.push(pivot);
-            candidates.clear();
-            let run = match position[pivot] {
-                usize::MAX => sweep::run(&sorted, first(kept[pivot]), window),
-                k => {
-                    in_sorted.remove(k);
-                    runs[k]
-                }
-            };
-            match run {
-                Some((start, end)) => {
-                    // The probe's test first: it rejects most, and fewer are left to sort.
-                    let pivot_probe = &probes[pivot];
-                    let mut k = in_sorted.first_from(start);
-                    while k < end {
-                        let i = sorted[k].1;
-                        if !probes[i].outside(pivot_probe) {
-                            candidates.push(i);
-                        }
-                        k = in_sorted.first_from(k + 1);
-                    }
-                    let later = |i: usize| i > pivot && unmerged[i];
-                    if let Some((start, end)) = sweep::run(&wide, first(kept[pivot]), wide_window) {
-                        candidates.extend(
-                            wide[start..end]
-                                .iter()
-                                .map(|&(_, i)| i)
-                                .filter(|&i| later(i) && !probes[i].outside(pivot_probe)),
-                        );
-                    }
-                    candidates.extend(
-                        unbounded
-                            .iter()
-                            .copied()
-                            .filter(|&i| later(i) && !probes[i].outside(pivot_probe)),
-                    );
-                    // Tested (and merged) in weight order, as a full scan would.
-                    candidates.sort_unstable();
-                }
-                // A centre off the index (not finite): every later component.
-                None => candidates.extend(pivot + 1..kept.len()),
-            }
-            for &i in &candidates {
-                if !unmerged[i] {
-                    continue;
-                }
-                if probes[i].outside(&probes[pivot]) {
-                    // (Only the full scan of a centre off the index gets here untested.)
-                    continue;
-                }
-                let (candidate, gate) = (kept[i], &mut gates[i]);
-                let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
-                if candidate.dim() == centre.len()
-                    && gate.contains(
-                        &candidate.cov,
-                        &candidate.mean,
-                        centre,
-                        self.merge_threshold,
-                        &mut scratch,
-                        robust,
-                    ) == Some(true)
-                {
-                    members.push(i);
-                }
-            }
-            for &i in &members {
-                unmerged[i] = false;
-                if position[i] != usize::MAX {
-                    in_sorted.remove(position[i]);
-                }
-            }
-            clusters
-                .members
-                .extend(members.iter().map(|&i| order[i].0 .2));
-            clusters.ends.push(clusters.members.len());
+        Self {
+            probes,
+            in_sorted: Unmerged::new(sorted.len()),
+            runs: sweep::runs_of_each(&sorted, window),
+            first,
+            sorted,
+            window,
+            position,
+            wide,
+            wide_window,
+            unbounded,
         }
-        clusters
+    }
+
+    /// Fills `candidates` with the unmerged components after `pivot` that may lie within
+    /// its merge gate, ascending (so tested, and merged, in weight order, as a full scan
+    /// would); takes the pivot out of the sorted list.
+    fn candidates(&mut self, pivot: usize, unmerged: &[bool], candidates: &mut Vec<usize>) {
+        candidates.clear();
+        let run = match self.position[pivot] {
+            usize::MAX => sweep::run(&self.sorted, self.first[pivot], self.window),
+            k => {
+                self.in_sorted.remove(k);
+                self.runs[k]
+            }
+        };
+        let Some((start, end)) = run else {
+            // A centre off the index (not finite): every later component.
+            candidates.extend(pivot + 1..unmerged.len());
+            return;
+        };
+        // The probe's test first: it rejects most, and fewer are left to sort.
+        let probes = &self.probes;
+        let near = |i: usize| !probes[i].outside(&probes[pivot]);
+        let mut k = self.in_sorted.first_from(start);
+        while k < end {
+            let i = self.sorted[k].1;
+            if near(i) {
+                candidates.push(i);
+            }
+            k = self.in_sorted.first_from(k + 1);
+        }
+        let later = |i: usize| i > pivot && unmerged[i];
+        if let Some((start, end)) = sweep::run(&self.wide, self.first[pivot], self.wide_window) {
+            let wide = self.wide[start..end].iter().map(|&(_, i)| i);
+            candidates.extend(wide.filter(|&i| later(i) && near(i)));
+        }
+        let unbounded = self.unbounded.iter().copied();
+        candidates.extend(unbounded.filter(|&i| later(i) && near(i)));
+        candidates.sort_unstable();
+    }
+
+    /// Takes merged component `i` out of the sorted list.
+    fn remove(&mut self, i: usize) {
+        if self.position[i] != usize::MAX {
+            self.in_sorted.remove(self.position[i]);
+        }
     }
 }
 

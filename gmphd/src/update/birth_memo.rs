@@ -8,7 +8,8 @@
 //! computed, serves every later birth of that component seen by that sensor: it is recalled
 //! instead of recomputed when the component's mean and covariance are, bit for bit, those
 //! it was computed from, for a sensor of the same
-//! [`projection_fingerprint`](crate::MeasurementModel::projection_fingerprint). The update's
+//! [`projection_key`](crate::UpdateHints::projection_key) (the built-in models' key is the
+//! model's type and the whole model, serialized, so a changed parameter is a different key). The update's
 //! output is the same bit for bit; only the work goes — and at the sets that receive the
 //! births it is most of the work (the dense scenario's grid of 128 wide components, each
 //! projected through 2n + 1 sigma points, more than doubles the cost of those sets).
@@ -32,13 +33,10 @@ pub(crate) struct BirthProjections {
 }
 
 impl BirthProjections {
-    /// The projections remembered for sensors of `fingerprint` (none yet, the first time).
-    pub(crate) fn for_sensor(&mut self, fingerprint: Vec<u64>) -> &mut SensorBirths {
-        match self
-            .sensors
-            .iter()
-            .position(|s| s.fingerprint == fingerprint)
-        {
+    /// The projections remembered for sensors of projection key `key` (none yet, the first
+    /// time).
+    pub(crate) fn for_sensor(&mut self, key: Vec<u8>) -> &mut SensorBirths {
+        match self.sensors.iter().position(|s| s.key == key) {
             Some(i) => {
                 let sensor = self.sensors.remove(i);
                 self.sensors.push(sensor);
@@ -48,7 +46,7 @@ impl BirthProjections {
                     self.sensors.remove(0);
                 }
                 self.sensors.push(SensorBirths {
-                    fingerprint,
+                    key,
                     births: Vec::new(),
                 });
             }
@@ -61,7 +59,7 @@ impl BirthProjections {
 /// the block of static births.
 #[derive(Debug)]
 pub(crate) struct SensorBirths {
-    fingerprint: Vec<u64>,
+    key: Vec<u8>,
     births: Vec<Option<Remembered>>,
 }
 

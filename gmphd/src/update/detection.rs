@@ -26,7 +26,7 @@ const MAX_POSITION_DIMS: usize = 3;
 /// p_D for `component` (see the module documentation), in [0, 1]; `point` is scratch
 /// for the spread's points (resized as needed, so that a loop over components allocates
 /// it once).
-pub(super) fn detection_probability(
+pub(crate) fn detection_probability(
     component: &Gaussian,
     step: &UpdateStep<'_>,
     point: &mut DVector<f64>,

@@ -78,7 +78,8 @@ impl<D: Dims, A> Storage<D> for A where
 
 #[cfg(test)]
 mod tests {
-    use super::super::{update_sized, UpdateStep, Work};
+    use super::super::sized::{update_sized, UpdateScratch, Work};
+    use super::super::UpdateStep;
     use super::*;
     use crate::gating::Gating;
     use crate::gaussian::Label;
@@ -147,17 +148,19 @@ mod tests {
             .map(|(i, c)| (i, c, (0.9 * c.weight).ln()))
             .collect();
         let gating = Gating::default();
-        let work = || Work {
+        let work = Work {
             step: &step,
-            gating: &gating,
+            gate: gating.distance_threshold(sensor.dim()),
+            min_weight: gating.min_weight,
             measurements: &measurements,
+            index_dim: sensor.update_hints().index_dim,
             seen: &seen,
-            births: None,
         };
         let (mut a, mut b) = (Vec::new(), Vec::new());
-        let a_association = update_sized(fixed, work(), &mut a).unwrap();
+        let scratch = &mut UpdateScratch::default();
+        let a_association = update_sized(fixed, &work, None, scratch, &mut a).unwrap();
         let dynamic = Dynamic(sensor.dim());
-        let b_association = update_sized::<Dynamic>(dynamic, work(), &mut b).unwrap();
+        let b_association = update_sized::<Dynamic>(dynamic, &work, None, scratch, &mut b).unwrap();
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
         assert!(a.len() > measurements.len(), "{} children only", a.len());
         assert_eq!(a.len(), b.len());

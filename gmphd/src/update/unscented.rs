@@ -13,6 +13,7 @@ use crate::error::FilterError;
 use crate::gaussian::Gaussian;
 use crate::linalg::{copy_into, lower_cholesky_columns, robust_cholesky};
 use crate::measurement::Residual;
+use crate::ukf::UnscentedWeights;
 
 /// Reusable buffers of the transform.
 #[derive(Default)]
@@ -42,6 +43,14 @@ where
 
 /// The unscented moments of `component` seen by `step.sensor` through `step.motion`, for
 /// the sizes `dims` (the component's state size and the sensor's measurement size).
+///
+/// The plain transform ([`crate::reference::unscented_moments`]) through all 2n + 1 sigma
+/// points, less the work that cannot change its result: a position is a function of the
+/// state's leading `position_dims` entries (the `MotionModel` contract) and column j of a
+/// lower factor is zero above row j, so only the first d columns move the position. The
+/// other 2(n − d) sigma points (the velocities', once the factor has taken the position's
+/// share) are the mean's image: they are neither factored nor measured, and their terms
+/// are counted instead of summed.
 pub(super) fn project<D: Dims>(
     dims: D,
     component: &Gaussian,
@@ -52,27 +61,57 @@ where
     DefaultAllocator: Storage<D>,
 {
     let (n_dim, m_dim) = (dims.state(component), dims.measurement());
-    let (n, m) = (n_dim.value(), m_dim.value());
-    let weights = step.unscented.weights(n)?;
-    // A position is a function of the state's leading `position_dims` entries (the
-    // `MotionModel` contract) and column j of a lower factor is zero above row j, so only the
-    // first d columns move the position: the other 2(n − d) sigma points (the velocities',
-    // once the factor has taken the position's share) are the mean's image. Only the first d
-    // columns are factored and visited.
-    let d = step.motion.position_dims().min(n);
+    let weights = step.unscented.weights(n_dim.value())?;
+    let d = step.motion.position_dims().min(n_dim.value());
+    let root = square_root::<D>(n_dim, component, d, weights.spread);
+    let sizes = (n_dim.value(), d, m_dim.value());
+    measure_sigma_points(component, step, root.as_slice(), sizes, scratch);
+    let residual = Residual::of(step.sensor);
+    let mean = weighted_mean::<D>(m_dim, &weights, residual, scratch);
+    Ok(moments_about::<D>(
+        (n_dim, m_dim),
+        &weights,
+        residual,
+        mean,
+        root.as_slice(),
+        scratch,
+    ))
+}
+
+/// The lower Cholesky factor of `spread` · P, its first `d` columns computed (the rest
+/// zero), or all of it repaired when P is slightly indefinite from round-off (as
+/// [`SigmaPoints`](crate::ukf::SigmaPoints) repairs it).
+fn square_root<D: Dims>(
+    n_dim: D::N,
+    component: &Gaussian,
+    d: usize,
+    spread: f64,
+) -> OMatrix<f64, D::N, D::N>
+where
+    DefaultAllocator: Storage<D>,
+{
+    let n = n_dim.value();
     let mut root = OMatrix::<f64, D::N, D::N>::zeros_generic(n_dim, n_dim);
-    let spread = weights.spread;
-    if !lower_cholesky_columns(
-        n,
-        d,
-        |r, c| spread * component.cov[(r, c)],
-        root.as_mut_slice(),
-    ) {
-        // Repair a covariance made slightly indefinite by round-off, as SigmaPoints does.
-        let repaired = robust_cholesky(&(&component.cov * weights.spread)).unpack();
+    let entry = |r, c| spread * component.cov[(r, c)];
+    if !lower_cholesky_columns(n, d, entry, root.as_mut_slice()) {
+        let repaired = robust_cholesky(&(&component.cov * spread)).unpack();
         root.as_mut_slice().copy_from_slice(repaired.as_slice());
     }
-    let root = root.as_slice();
+    root
+}
+
+/// Measures the sigma points of the n-state `component` into `scratch.outputs` (m entries
+/// each), of which only the first d columns of `root` move the position: point 0 is the mean,
+/// point 1 + i is mean + column i of `root`, point 1 + n + i mean − column i. Points whose
+/// position is the mean's are marked `at_centre` and not measured (their output slot is
+/// never read).
+fn measure_sigma_points(
+    component: &Gaussian,
+    step: &UpdateStep<'_>,
+    root: &[f64],
+    (n, d, m): (usize, usize, usize),
+    scratch: &mut UnscentedScratch,
+) {
     let points = 2 * n + 1;
     scratch.outputs.resize(points * m, 0.0);
     scratch.residual.resize(m, 0.0);
@@ -80,7 +119,6 @@ where
     scratch.at_centre.clear();
     scratch.at_centre.resize(points, true);
     copy_into(&mut scratch.point, &component.mean);
-    // Point 0 is the mean, point 1 + i is mean + column i, point 1 + n + i mean − column i.
     let centre = step.motion.position(&component.mean);
     let (first, rest) = scratch.outputs.split_at_mut(m);
     step.sensor.measure_into(&centre, first);
@@ -104,30 +142,35 @@ where
             *x = mean + sign * l;
         }
         let position = step.motion.position(&scratch.point);
-        // The mean's image (a column without spread in the position) is not measured, and its
-        // output slot is never read.
         if position != centre {
             *at_centre = false;
             step.sensor.measure_into(&position, output);
         }
     }
+}
 
-    // ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀): angular outputs near ±π average correctly.
-    // Points at the centre all have the centre's residual (computed once, in
-    // `centre_residual`), so they are counted instead of visited: with the position leading
-    // the state, the velocity columns of the factor give n of the 2n outer points, and
-    // skipping them halves the work of the moments.
+/// ȳ = y₀ + Σ wᵢ residual(yᵢ, y₀), so that angular outputs near ±π average correctly.
+/// Points at the centre all have the centre's residual (computed once, in
+/// `centre_residual`), so they are counted instead of visited.
+fn weighted_mean<D: Dims>(
+    m_dim: D::M,
+    weights: &UnscentedWeights,
+    residual: Residual<'_>,
+    scratch: &mut UnscentedScratch,
+) -> OVector<f64, D::M>
+where
+    DefaultAllocator: Storage<D>,
+{
+    let m = m_dim.value();
     let outputs = &scratch.outputs;
     let at_centre = &scratch.at_centre;
-    let residual = Residual::of(step.sensor);
     let mut mean = OVector::<f64, D::M>::from_column_slice_generic(m_dim, U1, &outputs[..m]);
     residual.write(
         &outputs[..m],
         &outputs[..m],
         &mut scratch.centre_residual[..m],
     );
-    let centred = at_centre[1..].iter().filter(|c| **c).count();
-    for j in (1..points).filter(|&j| !at_centre[j]) {
+    for j in (1..at_centre.len()).filter(|&j| !at_centre[j]) {
         residual.write(
             &outputs[j * m..(j + 1) * m],
             &outputs[..m],
@@ -137,6 +180,7 @@ where
             *y += weights.outer * r;
         }
     }
+    let centred = at_centre[1..].iter().filter(|c| **c).count();
     if centred > 0 {
         let centre_weight = centred as f64 * weights.outer;
         for (y, r) in mean
@@ -147,6 +191,27 @@ where
             *y += centre_weight * r;
         }
     }
+    mean
+}
+
+/// The moments about the sigma points' weighted `mean` ȳ: the covariance Σ w_c dy dyᵀ
+/// (symmetrised) and the cross-covariance Σ w_c dx dyᵀ, dy = residual(yⱼ, ȳ) and
+/// dx = xⱼ − x₀ (± a column of `root`).
+fn moments_about<D: Dims>(
+    (n_dim, m_dim): (D::N, D::M),
+    weights: &UnscentedWeights,
+    residual: Residual<'_>,
+    mean: OVector<f64, D::M>,
+    root: &[f64],
+    scratch: &mut UnscentedScratch,
+) -> UnscentedMoments<D>
+where
+    DefaultAllocator: Storage<D>,
+{
+    let (n, m) = (n_dim.value(), m_dim.value());
+    let outputs = &scratch.outputs;
+    let at_centre = &scratch.at_centre;
+    let centred = at_centre[1..].iter().filter(|c| **c).count();
     let mut cov = OMatrix::<f64, D::M, D::M>::zeros_generic(m_dim, m_dim);
     let mut cross_cov = OMatrix::<f64, D::N, D::M>::zeros_generic(n_dim, m_dim);
     residual.write(
@@ -161,7 +226,7 @@ where
         let mirror = if j <= n { j + n } else { j - n };
         at_centre[j] && at_centre[mirror]
     };
-    for j in (0..points).filter(|&j| j == 0 || !cancels(j)) {
+    for j in (0..at_centre.len()).filter(|&j| j == 0 || !cancels(j)) {
         let dy = if j == 0 || at_centre[j] {
             &scratch.centre_residual[..m]
         } else {
@@ -178,29 +243,21 @@ where
             _ if at_centre[j] => 0.0,
             _ => weights.outer,
         };
-        // Column-major storage: entry (r, c) of an R-row matrix is at r + c·R.
         if w != 0.0 {
-            for (c, cov_column) in cov.as_mut_slice().chunks_exact_mut(m).enumerate() {
-                let scaled = w * dy[c];
-                for (entry, y) in cov_column.iter_mut().zip(dy) {
-                    *entry += scaled * y;
-                }
-            }
+            add_outer(cov.as_mut_slice(), w, dy, dy);
         }
-        // x_j − x_0 is ± a column of the root (zero for the centre point).
         if j > 0 {
             let (column, signed_weight) = if j <= n {
                 (j - 1, weights.outer)
             } else {
                 (j - 1 - n, -weights.outer)
             };
-            let dx = &root[column * n..(column + 1) * n];
-            for (c, cross_column) in cross_cov.as_mut_slice().chunks_exact_mut(n).enumerate() {
-                let scaled = signed_weight * dy[c];
-                for (entry, x) in cross_column.iter_mut().zip(dx) {
-                    *entry += scaled * x;
-                }
-            }
+            add_outer(
+                cross_cov.as_mut_slice(),
+                signed_weight,
+                &root[column * n..(column + 1) * n],
+                dy,
+            );
         }
     }
     for c in 0..m {
@@ -210,11 +267,21 @@ where
             cov[(c, r)] = symmetric;
         }
     }
-    Ok(UnscentedMoments {
+    UnscentedMoments {
         mean,
         cov,
         cross_cov,
-    })
+    }
+}
+
+/// A += w · x yᵀ for the column-major `a` of x.len() rows (column c is w y_c x).
+fn add_outer(a: &mut [f64], w: f64, x: &[f64], y: &[f64]) {
+    for (column, y_c) in a.chunks_exact_mut(x.len()).zip(y) {
+        let scaled = w * y_c;
+        for (entry, x_r) in column.iter_mut().zip(x) {
+            *entry += scaled * x_r;
+        }
+    }
 }
 
 #[cfg(test)]
