@@ -62,7 +62,8 @@ pub async fn latency(args: &Args, arrival: Arrival) -> anyhow::Result<()> {
             echo_sent,
         });
     }
-    tokio::time::sleep(Duration::from_millis(800)).await;
+    let settled_after = settle(&rig, sent.len() as u64).await?;
+    println!("  every set accounted for {settled_after:.2} s after the last put");
     report_latency(&rig, &echo, &sent, arrival, args.latency_seconds).await?;
     rig.stop();
     Ok(())
@@ -111,6 +112,25 @@ async fn report_latency(
             .map_or("unavailable".into(), |k| format!("{:.1} MiB", k as f64 / 1024.0)),
     );
     Ok(())
+}
+
+/// Waits (at most 10 s) until the server has processed, refused or counted as invalid every
+/// one of `sent` sets, since late sets may still be held for the next rollback; returns how
+/// long that took.
+async fn settle(rig: &Rig, sent: u64) -> anyhow::Result<f64> {
+    let began = std::time::Instant::now();
+    loop {
+        tokio::time::sleep(Duration::from_millis(100)).await;
+        let status = rig.status().await?;
+        let done: u64 = status
+            .sensors
+            .iter()
+            .map(|s| s.processed + s.late + s.invalid)
+            .sum();
+        if done >= sent || began.elapsed() > Duration::from_secs(10) {
+            return Ok(began.elapsed().as_secs_f64());
+        }
+    }
 }
 
 fn fmt_ms(value: Option<f64>) -> String {
