@@ -106,7 +106,9 @@ function drawSensor(svg, plane, sensor) {
   }
 }
 
-function drawTrack(svg, plane, track) {
+// In the side view people stand at much the same height, so labels beside the dots would overlap:
+// there they stand above the dot, staggered by the track's rank.
+function drawTrack(svg, plane, track, rank) {
   const c = colour(track.id);
   const g = el("g", { class: "track", "data-track": track.id }, svg);
   if (track.trail.length > 1) el("polyline", { class: "trail", stroke: c, points: points(plane, track.trail) }, g);
@@ -119,7 +121,8 @@ function drawTrack(svg, plane, track) {
   }, g);
   if (track.id === view.selected) el("circle", { class: "selected-ring", cx: x, cy: y, r: 11 }, g);
   el("circle", { cx: x, cy: y, r: 6, fill: track.weak ? "#fff" : c, stroke: c, "stroke-width": 2 }, g);
-  el("text", { class: "track-label", x: x + 8, y: y + 14, fill: c }, g).textContent = `#${track.id}`;
+  const label = plane === PLANES.top ? { x: x + 8, y: y + 14 } : { x: x - 12, y: y - 12 - 16 * rank };
+  el("text", { class: "track-label", ...label, fill: c }, g).textContent = `#${track.id}`;
   g.addEventListener("click", () => select(track.id));
 }
 
@@ -142,7 +145,7 @@ function drawView(svg, plane, scene) {
   el("rect", { class: "volume", x: vx0, y: vy1, width: vx1 - vx0, height: vy0 - vy1 }, svg);
   for (const sensor of scene.sensors) drawSensor(svg, plane, sensor);
   drawTruth(svg, plane, scene.truth);
-  for (const track of scene.tracks) drawTrack(svg, plane, track);
+  scene.tracks.forEach((track, rank) => drawTrack(svg, plane, track, rank));
 }
 
 function cell(row, text, cls) {
