@@ -3,7 +3,8 @@
 #   1. the workspace's static binaries (reused when .ci/run already built them: same target and flags);
 #   2. zenohd 1.10.2 from crates.io, static, cached under the target directory;
 #   3. test TLS certificates and credentials for the secure profile, into docker/certs/ (git-ignored);
-#   4. one FROM-scratch image per program: fusion/zenohd, fusion/server, fusion/edge-agent, fusion/checker.
+#   4. one FROM-scratch image per program: fusion/zenohd, fusion/server, fusion/edge-agent, fusion/checker,
+#      fusion/view.
 # Every step is skipped when its result is already there, so a second run takes seconds.
 set -euo pipefail
 
@@ -31,7 +32,7 @@ done_step() { printf '    (%d s)\n' "$((SECONDS - step_began))"; }
 
 # ------------------------------------------------------------------ 1. our binaries
 step "workspace binaries (static, $bin_dir)"
-programs=(fusion-server edge-agent fusion-checker)
+programs=(fusion-server edge-agent fusion-checker fusion-view)
 missing=0
 for p in "${programs[@]}"; do [ -x "$bin_dir/$p" ] || missing=1; done
 if [ "$missing" = 1 ] || [ "${FUSION_REBUILD:-0}" = 1 ]; then
@@ -64,7 +65,7 @@ done_step
 
 # ------------------------------------------------------------------ 4. images
 step "images FROM scratch (tag $TAG)"
-# The build context holds only what the images copy: the four binaries and the baked-in configuration.
+# The build context holds only what the images copy: the binaries and the baked-in configuration.
 mkdir -p "$context/bin" "$context/config" "$context/state"
 sync_file() { # copies $1 to $2 unless identical (keeps mtimes, so the context stays stable)
   cmp -s "$1" "$2" 2>/dev/null || cp -p "$1" "$2"
@@ -76,7 +77,7 @@ for f in "$here"/zenoh/*.json5; do sync_file "$f" "$context/config/$(basename "$
 sync_file "$here/Dockerfile" "$context/Dockerfile"
 
 # "docker build" pulls nothing here: every stage is FROM scratch (no registry is needed or reachable).
-for image in zenohd server edge-agent checker; do
+for image in zenohd server edge-agent checker view; do
   # Quiet unless it fails (the legacy builder also warns that it is deprecated).
   if ! log="$(docker build --target "$image" --tag "fusion/$image:$TAG" "$context" 2>&1)"; then
     echo "$log"
@@ -89,7 +90,7 @@ done_step
 
 # ------------------------------------------------------------------ 5. smoke test of the images
 step "smoke test: each image starts, and service names resolve in the static binaries"
-for image in zenohd server edge-agent checker; do
+for image in zenohd server edge-agent checker view; do
   version="$(docker run --rm -e RUST_LOG=error -e NO_COLOR=1 "fusion/$image:$TAG" --version)"
   printf '    fusion/%-18s runs: %s\n' "$image:$TAG" "$version"
 done

@@ -11,7 +11,9 @@ use thiserror::Error;
 pub use transport::ZenohConfig;
 
 mod ingest;
-pub use ingest::{IngestConfig, OutputConfig};
+mod output;
+pub use ingest::IngestConfig;
+pub use output::OutputConfig;
 
 /// Why the configuration could not be used.
 #[derive(Debug, Error)]

@@ -12,6 +12,7 @@ use zenoh::qos::CongestionControl;
 
 use crate::clock;
 use crate::latency::SharedLatency;
+use crate::track_output::TrackCopies;
 
 /// What the engine thread hands to the publisher: the newest track set and the arrival times
 /// of the sets processed since the last put (their latency ends with the next put).
@@ -58,6 +59,7 @@ pub(crate) async fn start(
     site: &Site,
     max_publish_hz: f64,
     latency: SharedLatency,
+    copies: TrackCopies,
 ) -> anyhow::Result<(Outbox, tokio::task::JoinHandle<()>)> {
     let publisher = session
         .declare_publisher(keys::tracks_key(site))
@@ -79,6 +81,7 @@ pub(crate) async fn start(
                 let Some(tracks) = latest else { continue };
                 put(&publisher, &tracks).await;
                 latency.record_published(&arrivals, clock::now());
+                copies.after_put(&tracks).await;
                 next_allowed = Instant::now() + period;
             }
         })
@@ -87,12 +90,5 @@ pub(crate) async fn start(
 }
 
 async fn put(publisher: &zenoh::pubsub::Publisher<'_>, tracks: &TrackSet) {
-    match protocol::encode(tracks, WireFormat::Postcard) {
-        Ok(bytes) => {
-            if let Err(e) = publisher.put(bytes).await {
-                tracing::warn!(error = %e, "publishing tracks failed");
-            }
-        }
-        Err(e) => tracing::error!(error = %e, "encoding tracks failed"),
-    }
+    crate::track_output::put(publisher, tracks, WireFormat::Postcard).await;
 }

@@ -3,14 +3,16 @@
 //! Zenoh callbacks only decode the key and the encoding and hand the payload to a bounded
 //! channel (overflow is counted); the engine runs on its own thread, so slow clients never stall
 //! ingest; queryables answer from a snapshot the engine refreshes; a publisher task puts the
-//! latest `TrackSet` as soon as there is one (at most `output.max_publish_hz` times per second).
+//! latest `TrackSet` as soon as there is one (at most `output.max_publish_hz` times per second;
+//! `publisher.rs`, followed by its JSON copy and its place in the history that `_time` queries
+//! on the tracks queryable read, `track_output.rs`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use protocol::{keys, SensorId, SensorKeyKind, Status, TrackSet, WireFormat};
+use protocol::{keys, SensorId, SensorKeyKind, Status, WireFormat};
 use tokio::sync::mpsc;
 use zenoh::bytes::Encoding;
 use zenoh::sample::{Sample, SampleKind};
@@ -21,6 +23,7 @@ use crate::config::ServerConfig;
 use crate::engine::Engine;
 use crate::engine_thread::{engine_loop, restore_checkpoint, Inbound, Snapshot};
 use crate::publisher;
+use crate::track_output::{self, TrackCopies};
 
 /// Runs the service until SIGINT or SIGTERM.
 pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
@@ -100,17 +103,13 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
             .await
             .map_err(|e| anyhow::anyhow!("subscribing to liveliness: {e}"))?
     };
-    // Queryables for tracks and status.
+    // Queryables for tracks (current or history) and status.
+    let history = track_output::new_history(&config.output);
     let tracks_queryable =
-        declare_snapshot_queryable(&session, keys::tracks_key(&site), snapshot.clone(), |s| {
-            Reply::Tracks(s.tracks.clone())
-        })
-        .await?;
+        track_output::declare_tracks_queryable(&session, &site, snapshot.clone(), history.clone())
+            .await?;
     let status_queryable =
-        declare_snapshot_queryable(&session, keys::status_key(&site), snapshot.clone(), |s| {
-            Reply::Status(s.status.clone())
-        })
-        .await?;
+        declare_status_queryable(&session, keys::status_key(&site), snapshot.clone()).await?;
 
     // Ask for every descriptor already out there, and for those of sensors that speak unannounced.
     {
@@ -133,12 +132,14 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
         });
     }
 
-    // The publisher: the latest TrackSet as soon as there is one, rate-limited.
+    // The publisher: the latest TrackSet as soon as there is one, rate-limited, and in JSON.
+    let copies = TrackCopies::declare(&session, &site, &config.output, history).await?;
     let (outbox, publisher_task) = publisher::start(
         &session,
         &site,
         config.output.max_publish_hz,
         engine.latency(),
+        copies,
     )
     .await?;
 
@@ -193,16 +194,10 @@ fn offer(tx: &SyncSender<Inbound>, overflow: &AtomicU64, msg: Inbound) {
     }
 }
 
-enum Reply {
-    Tracks(TrackSet),
-    Status(Status),
-}
-
-async fn declare_snapshot_queryable(
+async fn declare_status_queryable(
     session: &zenoh::Session,
     key: String,
     snapshot: Arc<Mutex<Snapshot>>,
-    pick: fn(&Snapshot) -> Reply,
 ) -> anyhow::Result<zenoh::query::Queryable<()>> {
     let reply_key = key.clone();
     session
@@ -215,15 +210,11 @@ async fn declare_snapshot_queryable(
                     return;
                 }
             };
-            let reply = {
+            let status: Status = {
                 let guard = snapshot.lock().unwrap_or_else(|p| p.into_inner());
-                pick(&guard)
+                guard.status.clone()
             };
-            let bytes = match &reply {
-                Reply::Tracks(t) => protocol::encode(t, format),
-                Reply::Status(s) => protocol::encode(s, format),
-            };
-            match bytes {
+            match protocol::encode(&status, format) {
                 Ok(bytes) => {
                     if let Err(e) = query
                         .reply(reply_key.clone(), bytes)

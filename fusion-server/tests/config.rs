@@ -32,6 +32,11 @@ fn the_example_file_is_valid_and_holds_the_defaults() {
         format!("{:?}", loaded.ingest),
         format!("{:?}", defaults.ingest)
     );
+    assert_eq!(
+        format!("{:?}", loaded.output),
+        format!("{:?}", defaults.output)
+    );
+    assert!(loaded.output.json && loaded.output.history_s == 600.0);
     assert_eq!(loaded.zenoh.listen, vec!["tcp/127.0.0.1:7447".to_string()]);
     assert_eq!(loaded.site.name, "default");
 }
@@ -61,6 +66,8 @@ fn bad_values_name_their_key() {
             "tracks.confirm_at_once_threshold",
         ),
         ("[ingest]\nmax_future_s = -1\n", "ingest.max_future_s"),
+        ("[output]\nhistory_s = -5\n", "output.history_s"),
+        ("[output]\nmax_publish_hz = 0\n", "output.max_publish_hz"),
     ];
     for (text, key) in cases {
         let file = write_toml(text);

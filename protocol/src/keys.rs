@@ -2,7 +2,7 @@
 //!
 //! Everything of one deployment lives under `fusion/<site>`:
 //! - `fusion/<site>/sensors/<sensor>/descriptor|measurements|alive` (edge agents),
-//! - `fusion/<site>/tracks`, `fusion/<site>/status` (fusion server),
+//! - `fusion/<site>/tracks`, `fusion/<site>/tracks/json`, `fusion/<site>/status` (fusion server),
 //! - `fusion/<site>/truth` (simulators only).
 
 use crate::error::ProtocolError;
@@ -130,6 +130,11 @@ pub fn site_key(site: &Site, kind: SiteKeyKind) -> String {
 /// `fusion/<site>/tracks`.
 pub fn tracks_key(site: &Site) -> String {
     site_key(site, SiteKeyKind::Tracks)
+}
+
+/// `fusion/<site>/tracks/json`: the same track sets as `fusion/<site>/tracks`, always in JSON.
+pub fn tracks_json_key(site: &Site) -> String {
+    format!("{}/json", tracks_key(site))
 }
 
 /// `fusion/<site>/status`.

@@ -2,7 +2,8 @@
 
 use protocol::keys::{
     alive_key, all_alive_key, all_descriptors_key, all_measurements_key, all_sensors_key,
-    descriptor_key, measurements_key, sensor_key, site_key, status_key, tracks_key, truth_key,
+    descriptor_key, measurements_key, sensor_key, site_key, status_key, tracks_json_key,
+    tracks_key, truth_key,
 };
 use protocol::{
     parse_sensor_key, parse_site_key, ProtocolError, SensorId, SensorKeyKind, Site, SiteKeyKind,
@@ -39,6 +40,7 @@ fn site_and_wildcard_keys_have_the_contract_form() {
     let site = Site::default();
     assert_eq!(site.as_str(), DEFAULT_SITE);
     assert_eq!(tracks_key(&site), "fusion/default/tracks");
+    assert_eq!(tracks_json_key(&site), "fusion/default/tracks/json");
     assert_eq!(status_key(&site), "fusion/default/status");
     assert_eq!(truth_key(&site), "fusion/default/truth");
     assert_eq!(site_key(&site, SiteKeyKind::Truth), truth_key(&site));

@@ -12,6 +12,7 @@
                        -> compares two `fusion-checker ids` outputs (files): for every true object seen in
                           both, is its most frequent track id the same? Prints one line per object and
                           exits 1 when an id changed or fewer than MIN_OBJECTS objects could be compared.
+  view-scene           -> reads fusion-view's /api/scene JSON and prints "tracks sensors alive_sensors site"
 
 Only the standard library: CI machines have a plain Python 3.
 """
@@ -83,6 +84,11 @@ def main(argv):
             print(f"person {obj}: track id {before[obj]} before, {after[obj]} after ({verdict})")
         print(f"{same} of {len(common)} people kept their track id")
         return 0 if common and same == len(common) and len(common) >= MIN_OBJECTS else 1
+    if command == "view-scene":
+        scene = load_json(sys.stdin.read())
+        alive = sum(1 for s in scene["sensors"] if s["alive"])
+        print(len(scene["tracks"]), len(scene["sensors"]), alive, scene["site"] or "-")
+        return 0
     status = load_json(sys.stdin.read())
     if command == "status-sensor":
         match = [s for s in status["sensors"] if s["sensor"] == argv[2]]

@@ -16,6 +16,8 @@ inspect() { python3 "$here/inspect_output.py" "$@"; }
 export SEED="${SEED:-7}"
 export START=0 # set for real by bring_up; compose needs a value even to tear a project down
 export FUSION_IMAGE_TAG="${FUSION_IMAGE_TAG:-latest}"
+# fusion-view's port on the host: a free one, so that the tests never collide with a view already running.
+export VIEW_PORT="${VIEW_PORT:-$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')}"
 SENSORS=(cam1 cam2 mics_n mics_e mics_s mics_w lidar)
 # People enter the default room at 0.5, 2 and 4.5 s; their tracks need a few sets to be confirmed.
 ALL_IN_VIEW_S=8
@@ -217,6 +219,21 @@ bring_up "startup"
 section "1. steady state"
 watch_ospa "steady state" 30 0.2
 all_sensors_alive "steady state"
+
+section "1b. the browser view (fusion-view) on the host's port $VIEW_PORT"
+view_url="http://127.0.0.1:$VIEW_PORT"
+if page="$(curl -fsS --max-time 5 "$view_url/")" && grep -q 'id="tracks"' <<<"$page" &&
+  scene="$(curl -fsS --max-time 5 "$view_url/api/scene")"; then
+  read -r view_tracks view_sensors view_alive view_site <<<"$(inspect view-scene <<<"$scene")"
+  echo "    $view_url/: site $view_site, $view_tracks tracks, $view_sensors sensors ($view_alive alive)"
+  if [ "$view_tracks" = 3 ] && [ "$view_sensors" = 7 ] && [ "$view_alive" = 7 ]; then
+    pass "view: the page is served and its scene has the 3 tracks and 7 live sensors"
+  else
+    fail "view: expected 3 tracks and 7 live sensors in the scene"
+  fi
+else
+  fail "view: $view_url did not serve the page and its scene"
+fi
 
 section "2. partition: mics_n cut off the network for 10 s"
 network="$(docker inspect --format '{{range $k, $v := .NetworkSettings.Networks}}{{$k}} {{end}}' "$(container_of mics_n)" | awk '{ print $1 }')"

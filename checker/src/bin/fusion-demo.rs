@@ -1,6 +1,7 @@
 //! `fusion-demo`: the whole pipeline on one machine. Starts the fusion server and one simulated
 //! edge agent per sensor of the default room (or `--scenario`), in Zenoh peer mode on loopback,
-//! prints live tracks, and at the end OSPA against the truth and an SVG plot.
+//! prints live tracks, and at the end OSPA against the truth and an SVG plot. `fusion-view` runs
+//! beside them: the demo prints its URL, where the run can be watched in a browser.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -32,6 +33,40 @@ struct Args {
     /// Directory for the processes' logs.
     #[arg(long, default_value = "fusion-demo-logs")]
     logs: PathBuf,
+    /// Where `fusion-view` serves its page (another free port on 127.0.0.1 when this one is taken).
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    view: std::net::SocketAddr,
+    /// Do not start `fusion-view`.
+    #[arg(long)]
+    no_view: bool,
+}
+
+/// Starts `fusion-view` as a peer of `endpoint` on `address` (or on a free port when that one is
+/// taken) and prints its URL; `None`, saying why, when it cannot run.
+fn start_view(
+    endpoint: &str,
+    address: std::net::SocketAddr,
+    logs: &std::path::Path,
+) -> Option<Managed> {
+    let address = match std::net::TcpListener::bind(address) {
+        Ok(_) => address.to_string(),
+        Err(_) => format!("127.0.0.1:{}", free_port().ok()?),
+    };
+    let started = binary("fusion-view").and_then(|bin| {
+        let mut cmd = Command::new(bin);
+        cmd.args(["--mode", "peer", "--connect", endpoint, "--http", &address]);
+        Managed::spawn("fusion-view", cmd, Some(&logs.join("fusion-view.log")))
+    });
+    match started {
+        Ok(view) => {
+            println!("fusion-demo: watch it live at http://{address}/");
+            Some(view)
+        }
+        Err(e) => {
+            println!("fusion-demo: no live view ({e})");
+            None
+        }
+    }
 }
 
 #[tokio::main(flavor = "multi_thread", worker_threads = 2)]
@@ -103,6 +138,9 @@ async fn main() -> anyhow::Result<()> {
     };
     let session = watcher.open().await?;
     let observer = Observer::start(&session, &site).await?;
+    let mut view = (!args.no_view)
+        .then(|| start_view(&endpoint, args.view, &args.logs))
+        .flatten();
 
     let began = Instant::now();
     let total = Duration::from_secs_f64(args.duration + 2.5);
@@ -141,30 +179,13 @@ async fn main() -> anyhow::Result<()> {
 
     let status = query_status(&session, &site, WireFormat::Json).await;
     let observed = observer.snapshot();
-    for agent in &mut agents {
+    for agent in agents.iter_mut().chain(view.as_mut()) {
         agent.stop(Duration::from_secs(3));
     }
     server.stop(Duration::from_secs(5));
 
     println!();
-    match status {
-        Ok(status) => {
-            for s in &status.sensors {
-                println!(
-                    "sensor {:8} {:14} received {:5} processed {:5} late {:3} invalid {:3} lost {:3} rollbacks {:3}",
-                    s.sensor.as_str(), s.kind.name(), s.received, s.processed, s.late, s.invalid, s.lost, s.rollbacks
-                );
-            }
-            let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
-            println!(
-                "latency from arrival to the put of the tracks: p50 {}, p99 {}; {} components",
-                ms(status.latency_ms.p50),
-                ms(status.latency_ms.p99),
-                status.components
-            );
-        }
-        Err(e) => println!("status query failed: {e}"),
-    }
+    print_status(status);
     let scores = observed.scores();
     let truth = observed.truth_sets();
     let max_count = truth.iter().map(|t| t.objects.len()).max().unwrap_or(0);
@@ -196,4 +217,26 @@ async fn main() -> anyhow::Result<()> {
     )?;
     println!("plot: {}", args.plot.display());
     Ok(())
+}
+
+/// Prints the server's per-sensor counters and latency at the end of the run.
+fn print_status(status: anyhow::Result<protocol::Status>) {
+    match status {
+        Ok(status) => {
+            for s in &status.sensors {
+                println!(
+                    "sensor {:8} {:14} received {:5} processed {:5} late {:3} invalid {:3} lost {:3} rollbacks {:3}",
+                    s.sensor.as_str(), s.kind.name(), s.received, s.processed, s.late, s.invalid, s.lost, s.rollbacks
+                );
+            }
+            let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2} ms"));
+            println!(
+                "latency from arrival to the put of the tracks: p50 {}, p99 {}; {} components",
+                ms(status.latency_ms.p50),
+                ms(status.latency_ms.p99),
+                status.components
+            );
+        }
+        Err(e) => println!("status query failed: {e}"),
+    }
 }

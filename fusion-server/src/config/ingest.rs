@@ -1,4 +1,4 @@
-//! `[ingest]` and `[output]`: how sets are admitted and how tracks are published.
+//! `[ingest]`: how sets are admitted and how late they may be.
 
 use serde::Deserialize;
 
@@ -75,30 +75,5 @@ impl IngestConfig {
             return Err(invalid("ingest.queue_capacity", "must be at least 1"));
         }
         Ok(())
-    }
-}
-
-/// `[output]`: publication of tracks.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct OutputConfig {
-    /// At most this many `TrackSet` puts per second. A guard for subscribers, not a pace: the
-    /// default is above any deployment's set rate, so each processed set's tracks go out at once;
-    /// under a lower limit the latest state is published as soon as the limit allows.
-    pub max_publish_hz: f64,
-}
-
-impl Default for OutputConfig {
-    fn default() -> Self {
-        Self {
-            max_publish_hz: 1000.0,
-        }
-    }
-}
-
-impl OutputConfig {
-    /// Checks every value; the error names the first offending key.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        positive("output.max_publish_hz", self.max_publish_hz)
     }
 }

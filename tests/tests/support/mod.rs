@@ -10,6 +10,8 @@ use std::time::Duration;
 
 use checker::processes::{binary, free_port, Managed};
 
+pub mod browser;
+
 /// The router endpoint and the test's session on it.
 pub struct Hub {
     /// `tcp/127.0.0.1:<port>`.
@@ -92,4 +94,38 @@ pub fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch directory");
     dir
+}
+
+/// Starts `fusion-view` as a Zenoh client of `endpoint`, serving HTTP on `http` (`ADDR:PORT`).
+pub fn start_view(endpoint: &str, http: &str, log: &Path) -> anyhow::Result<Managed> {
+    let mut cmd = Command::new(binary("fusion-view")?);
+    cmd.args(["--mode", "client", "--connect", endpoint, "--http", http])
+        .env("RUST_LOG", "info,zenoh=warn");
+    Managed::spawn("fusion-view", cmd, Some(log))
+}
+
+/// Starts `edge-agent sim` for the given sensors of the default room only.
+pub fn start_sensors(
+    endpoint: &str,
+    log: &Path,
+    sensors: &[&str],
+    truth: bool,
+    (start, duration, seed): (f64, f64, u64),
+) -> anyhow::Result<Managed> {
+    let mut cmd = Command::new(binary("edge-agent")?);
+    cmd.args(["sim", "--mode", "client", "--connect", endpoint])
+        .args(["--start", &format!("{start:.6}")])
+        .args(["--duration", &duration.to_string()])
+        .args(["--seed", &seed.to_string()]);
+    for sensor in sensors {
+        cmd.args(["--sensor", sensor]);
+    }
+    if truth {
+        cmd.arg("--truth");
+    }
+    Managed::spawn(
+        &format!("edge-agent sim {}", sensors.join(",")),
+        cmd,
+        Some(log),
+    )
 }
