@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use fusion_server::config::ServerConfig;
 use fusion_server::engine::Engine;
-use protocol::{MeasurementSet, ReplayLine, SensorDescriptor};
+use protocol::{MeasurementSet, SensorDescriptor};
 
 const T0: f64 = 1_763_700_000.0;
 const SECONDS: f64 = 30.0;
@@ -17,15 +17,7 @@ const SECONDS: f64 = 30.0;
 fn room() -> (Vec<SensorDescriptor>, Vec<MeasurementSet>) {
     let mut scenario = simulator::default_room();
     scenario.start = Some(T0);
-    let (mut descriptors, mut sets) = (Vec::new(), Vec::new());
-    for line in simulator::replay_lines(&scenario, 7, SECONDS).expect("the room scenario") {
-        match line {
-            ReplayLine::Descriptor(d) => descriptors.push(d),
-            ReplayLine::Measurements(s) => sets.push(s),
-            ReplayLine::Truth(_) => {}
-        }
-    }
-    (descriptors, sets)
+    simulator::descriptors_and_sets(&scenario, 7, SECONDS).expect("the room scenario")
 }
 
 /// Arrival time of each set: cam1 0.4 s and cam2 1.0 s after its stamp when `late`.

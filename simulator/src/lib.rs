@@ -78,7 +78,7 @@ pub use error::ScenarioError;
 pub use motion::{ConstantVelocity, Motion, Waypoints};
 pub use presets::{default_room, dense, dense_scaled, ROOM_FLOOR, ROOM_HEIGHT};
 pub use random_walk::{RandomWalk, DEFAULT_KNOT_INTERVAL_S};
-pub use replay::{replay_lines, ReplayLines};
+pub use replay::{descriptors_and_sets, replay_lines, ReplayLines};
 pub use scenario::Scenario;
 pub use sensor_sim::SimulatedSensor;
 pub use sensor_spec::SensorSpec;

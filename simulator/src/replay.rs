@@ -3,7 +3,7 @@
 use std::cmp::{Ordering, Reverse};
 use std::collections::{BinaryHeap, VecDeque};
 
-use protocol::{ReplayLine, SensorDescriptor};
+use protocol::{MeasurementSet, ReplayLine, SensorDescriptor};
 
 use crate::error::ScenarioError;
 use crate::scenario::Scenario;
@@ -20,6 +20,24 @@ pub fn replay_lines(
     duration_s: f64,
 ) -> Result<ReplayLines, ScenarioError> {
     Ok(Simulation::new(scenario.clone(), seed)?.into_replay_lines(duration_s))
+}
+
+/// The sensors' descriptors and the measurement sets (in stamp order) of the first
+/// `duration_s` seconds of a run, as [`replay_lines`] gives them, without the truth.
+pub fn descriptors_and_sets(
+    scenario: &Scenario,
+    seed: u64,
+    duration_s: f64,
+) -> Result<(Vec<SensorDescriptor>, Vec<MeasurementSet>), ScenarioError> {
+    let (mut descriptors, mut sets) = (Vec::new(), Vec::new());
+    for line in replay_lines(scenario, seed, duration_s)? {
+        match line {
+            ReplayLine::Descriptor(d) => descriptors.push(d),
+            ReplayLine::Measurements(s) => sets.push(s),
+            ReplayLine::Truth(_) => {}
+        }
+    }
+    Ok((descriptors, sets))
 }
 
 /// The lines of a run, generated lazily: every sensor's descriptor first (scenario

@@ -8,7 +8,7 @@ mod support;
 use checker::{query_status, query_tracks};
 use fusion_server::config::ServerConfig;
 use fusion_server::engine::Engine;
-use protocol::{keys, MeasurementSet, ReplayLine, SensorDescriptor, Site, TrackSet, WireFormat};
+use protocol::{keys, MeasurementSet, SensorDescriptor, Site, TrackSet, WireFormat};
 use support::{now, scratch, sleep, start_server, Hub};
 use zenoh::bytes::Encoding;
 
@@ -19,15 +19,7 @@ const SECONDS: f64 = 8.0;
 fn room(start: f64) -> anyhow::Result<(Vec<SensorDescriptor>, Vec<MeasurementSet>)> {
     let mut scenario = simulator::default_room();
     scenario.start = Some(start);
-    let (mut descriptors, mut sets) = (Vec::new(), Vec::new());
-    for line in simulator::replay_lines(&scenario, 5, SECONDS)? {
-        match line {
-            ReplayLine::Descriptor(d) => descriptors.push(d),
-            ReplayLine::Measurements(s) => sets.push(s),
-            ReplayLine::Truth(_) => {}
-        }
-    }
-    Ok((descriptors, sets))
+    Ok(simulator::descriptors_and_sets(&scenario, 5, SECONDS)?)
 }
 
 /// How late each sensor's sets arrive.

@@ -3,7 +3,7 @@
 
 use fusion_server::config::ServerConfig;
 use fusion_server::engine::Engine;
-use protocol::{MeasurementSet, ReplayLine, SensorDescriptor};
+use protocol::{MeasurementSet, SensorDescriptor};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use simulator::Scenario;
@@ -61,15 +61,7 @@ pub fn scenario_sets(
 ) -> anyhow::Result<(Vec<SensorDescriptor>, Vec<MeasurementSet>)> {
     let mut scenario = scenario.clone();
     scenario.start = Some(start);
-    let (mut descriptors, mut sets) = (Vec::new(), Vec::new());
-    for line in simulator::replay_lines(&scenario, 1, seconds)? {
-        match line {
-            ReplayLine::Descriptor(d) => descriptors.push(d),
-            ReplayLine::Measurements(s) => sets.push(s),
-            ReplayLine::Truth(_) => {}
-        }
-    }
-    Ok((descriptors, sets))
+    Ok(simulator::descriptors_and_sets(&scenario, 1, seconds)?)
 }
 
 /// When each set arrives under `arrival`, in order of arrival.
