@@ -8,10 +8,10 @@ use transport::ZenohConfig;
 
 use crate::descriptor::validate_descriptor;
 use crate::error::AgentError;
-use crate::log_limit::LogLimiter;
 use crate::output::ReplayWriter;
 use crate::publish::{await_subscribers, Publishing, SensorPublisher, TruthPublisher};
-use crate::shutdown::Shutdown;
+use transport::LogLimiter;
+use transport::Shutdown;
 
 /// How long a publishing agent waits at start for subscribers to its sets (see `await_subscribers`).
 const SUBSCRIBER_PATIENCE: Duration = Duration::from_secs(2);
@@ -148,7 +148,7 @@ impl Emitter {
         entry.next_seq += 1;
         if let Err(error) = set.validate_against(&entry.descriptor) {
             entry.count.invalid += 1;
-            if let Some(suppressed) = self.invalid_log.allow() {
+            if let Some(suppressed) = self.invalid_log.allow("invalid set") {
                 tracing::error!(sensor = %set.sensor, seq = set.seq, %error, suppressed, "dropping an invalid set");
             }
             return Ok(());

@@ -10,7 +10,7 @@ use crate::output::ReplayWriter;
 use crate::pacing::{check_speed, wall_clock, Pacer};
 use crate::run::{run, EventSource, RunPlan};
 use crate::settings::AgentSettings;
-use crate::shutdown::Shutdown;
+use transport::Shutdown;
 
 /// A subcommand's work, ready to run: its source of frames and the sensors they belong to.
 pub struct Prepared {

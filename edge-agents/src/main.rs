@@ -12,14 +12,12 @@ mod emit;
 mod error;
 mod launch;
 mod lidar;
-mod log_limit;
 mod mic;
 mod output;
 mod pacing;
 mod publish;
 mod run;
 mod settings;
-mod shutdown;
 mod sim;
 
 use std::process::ExitCode;

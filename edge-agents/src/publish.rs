@@ -18,8 +18,8 @@ use zenoh::query::{Query, Queryable};
 use zenoh::{Session, Wait};
 
 use crate::error::AgentError;
-use crate::log_limit::LogLimiter;
-use crate::shutdown::Shutdown;
+use transport::LogLimiter;
+use transport::Shutdown;
 
 /// How often a descriptor is put again, so that a server that restarted learns it without asking.
 pub const DESCRIPTOR_REFRESH: Duration = Duration::from_secs(3);
@@ -246,7 +246,7 @@ impl TypedPublisher {
             Err(e) => Err(format!("encoding failed: {e}")),
         };
         if let Err(error) = result {
-            if let Some(suppressed) = self.failures.allow() {
+            if let Some(suppressed) = self.failures.allow("put") {
                 let key = self.publisher.key_expr();
                 tracing::warn!(what = self.what, %key, %error, suppressed, "put failed; going on");
             }

@@ -5,7 +5,7 @@ use protocol::{SensorDescriptor, Site, TruthSet};
 use crate::emit::{Emitter, Frame, OutputPlan};
 use crate::error::AgentError;
 use crate::pacing::Pacer;
-use crate::shutdown::Shutdown;
+use transport::Shutdown;
 
 /// One thing a source produces, in stamp order.
 #[derive(Debug, Clone, PartialEq)]

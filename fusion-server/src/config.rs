@@ -6,12 +6,15 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use protocol::SensorDescriptor;
+use serde::{Deserialize, Deserializer};
 use thiserror::Error;
 pub use transport::ZenohConfig;
 
+mod filter;
 mod ingest;
 mod output;
+pub use filter::{BirthKind, FilterConfig, MotionKind};
 pub use ingest::IngestConfig;
 pub use output::OutputConfig;
 
@@ -50,8 +53,10 @@ pub struct ServerConfig {
     pub filter: FilterConfig,
     /// Track confirmation and deletion.
     pub tracks: TracksConfig,
-    /// Static sensor descriptors (protocol JSON form) that override or stand in for published ones.
-    pub sensors: Vec<serde_json::Value>,
+    /// Static sensor descriptors that override or stand in for published ones, parsed (from the
+    /// protocol's JSON form) and validated at load.
+    #[serde(deserialize_with = "descriptors")]
+    pub sensors: Vec<SensorDescriptor>,
     /// Admission of incoming sets and the history kept for late ones.
     pub ingest: IngestConfig,
     /// Publication of track sets.
@@ -80,96 +85,6 @@ impl Default for SiteConfig {
             name: "default".into(),
             volume_min: [0.0, 0.0, 0.0],
             volume_max: [3.0, 2.0, 2.2],
-        }
-    }
-}
-
-/// Default `filter.adaptive_birth_rate`: ν_b per LIDAR set (10 Hz in the room), tuned on the
-/// room replay (`tests/replay_room.rs`).
-const ADAPTIVE_BIRTH_RATE: f64 = 0.05;
-/// Default `filter.adaptive_birth_velocity_std`, m/s: walking pace.
-const ADAPTIVE_BIRTH_VELOCITY_STD: f64 = 1.0;
-
-/// Default `filter.birth_interval_s`: 50 additions per second, as many as sets arrive from one
-/// fast camera. In the room replay (`tests/replay_room.rs`, 7 sensors) 0.02 s gives the same
-/// OSPA and count as births at every set, while 0.05–0.2 s cost 1–2 % of right counts: each
-/// addition then carries more mass, and its children near tracked people weigh more.
-const BIRTH_INTERVAL_S: f64 = 0.02;
-
-/// `[filter]`: motion model, birth, survival and mixture reduction.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct FilterConfig {
-    /// `constant_velocity` (3-D, state [x y z vx vy vz]) or `random_walk` (3-D, state [x y z]).
-    pub motion: String,
-    /// Continuous white-noise acceleration, m/s² (constant velocity).
-    pub accel_noise_std: f64,
-    /// Random-walk diffusion, m/√s (random walk).
-    pub position_noise_std: f64,
-    /// Probability that an object survives one second (p_S over Δt is this to the power Δt).
-    pub survival_probability: f64,
-    /// Objects whose predicted position lies farther than this (metres) outside the site
-    /// volume do not survive. Without such a limit a component that drifts out of every
-    /// sensor's view keeps its weight for ever (p_D = 0 there) and becomes a false track or
-    /// spoils a real one (`gmphd::SurvivalRegion`). Set it large to track outside the volume.
-    pub survival_margin_m: f64,
-    /// `grid` (components over the site volume) or `mixture` (`birth_means`).
-    pub birth: String,
-    /// Expected number of new objects per second over the whole volume.
-    pub birth_rate: f64,
-    /// Grid size along x, y, z (grid birth).
-    pub birth_grid: [usize; 3],
-    /// Means of the birth components (mixture birth), metres.
-    pub birth_means: Vec<[f64; 3]>,
-    /// Standard deviation of a birth component's position, metres.
-    pub birth_position_std: f64,
-    /// Standard deviation of a birth component's velocity, m/s.
-    pub birth_velocity_std: f64,
-    /// Least time between two additions of `birth`'s components, seconds: they are added for
-    /// all the time owed at once, so the birth rate is unchanged while sets arriving every
-    /// few milliseconds do not each carry (and prune) a full grid of births. 0: every set.
-    pub birth_interval_s: f64,
-    /// Measurement-driven birth (Ristic et al. 2012) in addition to `birth`: each measurement
-    /// of a sensor that can be inverted to a world point (LIDAR, position, bearing–range) and
-    /// that the tracks do not explain becomes a birth of the next prediction, anywhere.
-    pub adaptive_birth: bool,
-    /// Expected new objects per measurement set of an invertible sensor, shared among its
-    /// measurements by how poorly the tracks explain them.
-    pub adaptive_birth_rate: f64,
-    /// Standard deviation of an adaptive birth's velocity, m/s.
-    pub adaptive_birth_velocity_std: f64,
-    /// Prune components below this weight (Vo & Ma's T).
-    pub prune_threshold: f64,
-    /// Merge components within this Mahalanobis distance (Vo & Ma's U).
-    pub merge_threshold: f64,
-    /// Keep at most this many components (Vo & Ma's J_max).
-    pub max_components: usize,
-    /// A component (label) with weight above this is an estimate.
-    pub extraction_threshold: f64,
-}
-
-impl Default for FilterConfig {
-    fn default() -> Self {
-        Self {
-            motion: "constant_velocity".into(),
-            accel_noise_std: 1.0,
-            position_noise_std: 0.5,
-            survival_probability: 0.99,
-            survival_margin_m: 0.25,
-            birth: "grid".into(),
-            birth_rate: 0.2,
-            birth_grid: [4, 3, 1],
-            birth_means: Vec::new(),
-            birth_position_std: 0.6,
-            birth_velocity_std: 0.5,
-            birth_interval_s: BIRTH_INTERVAL_S,
-            adaptive_birth: true,
-            adaptive_birth_rate: ADAPTIVE_BIRTH_RATE,
-            adaptive_birth_velocity_std: ADAPTIVE_BIRTH_VELOCITY_STD,
-            prune_threshold: 1e-5,
-            merge_threshold: 4.0,
-            max_components: 100,
-            extraction_threshold: 0.5,
         }
     }
 }
@@ -298,12 +213,49 @@ impl ServerConfig {
         }
         self.filter.validate()?;
         self.tracks.validate()?;
+        self.validate_sensors()?;
         self.ingest.validate()?;
         self.output.validate()?;
         positive("checkpoint.interval_s", self.checkpoint.interval_s)?;
         positive("checkpoint.max_age_s", self.checkpoint.max_age_s)?;
         Ok(())
     }
+}
+
+impl ServerConfig {
+    /// Each static descriptor must be valid and belong to this site.
+    fn validate_sensors(&self) -> Result<(), ConfigError> {
+        for (i, descriptor) in self.sensors.iter().enumerate() {
+            let key = format!("sensors[{i}]");
+            if descriptor.site.as_str() != self.site.name {
+                return Err(invalid(
+                    &key,
+                    format!(
+                        "site {} is not site.name {}",
+                        descriptor.site, self.site.name
+                    ),
+                ));
+            }
+            descriptor
+                .validate()
+                .map_err(|e| invalid(&key, e.to_string()))?;
+        }
+        Ok(())
+    }
+}
+
+/// Reads `sensors` as the protocol's JSON form of each descriptor (whatever the file format),
+/// so that a static descriptor is written exactly as an agent would publish it.
+fn descriptors<'de, D: Deserializer<'de>>(input: D) -> Result<Vec<SensorDescriptor>, D::Error> {
+    let values = Vec::<serde_json::Value>::deserialize(input)?;
+    values
+        .into_iter()
+        .enumerate()
+        .map(|(i, value)| {
+            serde_json::from_value(value)
+                .map_err(|e| serde::de::Error::custom(format!("sensors[{i}]: {e}")))
+        })
+        .collect()
 }
 
 pub(crate) fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
@@ -314,84 +266,11 @@ pub(crate) fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
     }
 }
 
-fn probability(key: &str, value: f64) -> Result<(), ConfigError> {
+pub(crate) fn probability(key: &str, value: f64) -> Result<(), ConfigError> {
     if value > 0.0 && value <= 1.0 {
         Ok(())
     } else {
         Err(invalid(key, format!("{value} is outside (0, 1]")))
-    }
-}
-
-impl FilterConfig {
-    fn validate(&self) -> Result<(), ConfigError> {
-        if self.motion != "constant_velocity" && self.motion != "random_walk" {
-            return Err(invalid(
-                "filter.motion",
-                format!(
-                    "{:?}: expected \"constant_velocity\" or \"random_walk\"",
-                    self.motion
-                ),
-            ));
-        }
-        positive("filter.accel_noise_std", self.accel_noise_std)?;
-        positive("filter.position_noise_std", self.position_noise_std)?;
-        probability("filter.survival_probability", self.survival_probability)?;
-        if !(self.survival_margin_m.is_finite() && self.survival_margin_m >= 0.0) {
-            return Err(invalid(
-                "filter.survival_margin_m",
-                format!("{}: must be a finite number >= 0", self.survival_margin_m),
-            ));
-        }
-        match self.birth.as_str() {
-            "grid" => {
-                if self.birth_grid.contains(&0) {
-                    return Err(invalid(
-                        "filter.birth_grid",
-                        "every count must be at least 1",
-                    ));
-                }
-            }
-            "mixture" => {
-                if self.birth_means.is_empty() {
-                    return Err(invalid(
-                        "filter.birth_means",
-                        "mixture birth needs at least one mean",
-                    ));
-                }
-                if self.birth_means.iter().flatten().any(|v| !v.is_finite()) {
-                    return Err(invalid(
-                        "filter.birth_means",
-                        "contains a non-finite number",
-                    ));
-                }
-            }
-            other => {
-                return Err(invalid(
-                    "filter.birth",
-                    format!("{other:?}: expected \"grid\" or \"mixture\""),
-                ))
-            }
-        }
-        positive("filter.birth_rate", self.birth_rate)?;
-        positive("filter.birth_position_std", self.birth_position_std)?;
-        positive("filter.birth_velocity_std", self.birth_velocity_std)?;
-        if !(self.birth_interval_s.is_finite() && self.birth_interval_s >= 0.0) {
-            return Err(invalid(
-                "filter.birth_interval_s",
-                format!("{}: must be a finite number >= 0", self.birth_interval_s),
-            ));
-        }
-        positive("filter.adaptive_birth_rate", self.adaptive_birth_rate)?;
-        positive(
-            "filter.adaptive_birth_velocity_std",
-            self.adaptive_birth_velocity_std,
-        )?;
-        positive("filter.prune_threshold", self.prune_threshold)?;
-        positive("filter.merge_threshold", self.merge_threshold)?;
-        if self.max_components == 0 {
-            return Err(invalid("filter.max_components", "must be at least 1"));
-        }
-        positive("filter.extraction_threshold", self.extraction_threshold)
     }
 }
 

@@ -34,7 +34,7 @@ pub struct StepOutput {
 
 /// Admission, ordering and filtering of measurement sets for one site.
 pub struct Engine {
-    config: ServerConfig,
+    ingest: IngestConfig,
     site: Site,
     /// True for the live service: sets stamped too far ahead of the clock are refused.
     live: bool,
@@ -77,11 +77,9 @@ impl Engine {
             latency: SharedLatency::new(1024),
             track_seq: 0,
             settled_seq: 0,
-            config,
+            ingest: config.ingest,
         };
-        for (i, value) in engine.config.sensors.clone().into_iter().enumerate() {
-            let descriptor: SensorDescriptor = serde_json::from_value(value)
-                .map_err(|e| anyhow::anyhow!("configuration key `sensors[{i}]`: {e}"))?;
+        for (i, descriptor) in config.sensors.into_iter().enumerate() {
             engine
                 .learn_descriptor(descriptor, true)
                 .map_err(|e| anyhow::anyhow!("configuration key `sensors[{i}]`: {e}"))?;
@@ -222,10 +220,10 @@ impl Engine {
                 .map_err(|e| e.to_string())?;
         }
         if self.live {
-            set.validate_stamp(now, self.config.ingest.max_future_s)
+            set.validate_stamp(now, self.ingest.max_future_s)
                 .map_err(|e| e.to_string())?;
         }
-        let max_rate = self.config.ingest.max_rate_hz;
+        let max_rate = self.ingest.max_rate_hz;
         let within_rate = self
             .sensors
             .get_mut(&set.sensor)
@@ -249,7 +247,7 @@ impl Engine {
                 horizon,
             });
         }
-        if self.waiting.len() + self.pacing.held() >= self.config.ingest.queue_capacity {
+        if self.waiting.len() + self.pacing.held() >= self.ingest.queue_capacity {
             self.count_invalid(&name);
             return Err(Rejection::Overflow(name));
         }
@@ -385,6 +383,12 @@ impl Engine {
     /// Where the publisher records each set's latency at publication (reported in `Status`).
     pub fn latency(&self) -> SharedLatency {
         self.latency.clone()
+    }
+
+    /// Counts `dropped` sets that never reached the engine because its ingest queue was full
+    /// (reported in `Status` as invalid: the server could not take them).
+    pub fn count_overflow(&mut self, dropped: u64) {
+        self.rejected.invalid += dropped;
     }
 
     /// The latest track set.

@@ -14,8 +14,8 @@ use crate::checkpoint::{self, Checkpoint};
 use crate::clock;
 use crate::config::ServerConfig;
 use crate::engine::{Engine, Rejection};
-use crate::limiter::LogLimiter;
 use crate::publisher::Outbox;
+use transport::LogLimiter;
 
 /// What Zenoh callbacks hand to the engine thread.
 pub(crate) enum Inbound {
@@ -90,7 +90,7 @@ pub(crate) fn engine_loop(
     outbox: Outbox,
     ask_tx: mpsc::UnboundedSender<SensorId>,
 ) {
-    let mut limiter = LogLimiter::new(5.0);
+    let mut limiter = LogLimiter::new(Duration::from_secs(5));
     let mut last_checkpoint = clock::now();
     let mut reported_overflow = 0;
     let mut shutting_down = false;
@@ -121,14 +121,14 @@ pub(crate) fn engine_loop(
         }
         let dropped = overflow.load(Ordering::Relaxed);
         if dropped > reported_overflow {
-            if limiter.allow("overflow", now).is_some() {
+            engine.count_overflow(dropped - reported_overflow);
+            if limiter.allow("overflow").is_some() {
                 tracing::warn!(dropped, "ingest queue full: sets dropped");
             }
             reported_overflow = dropped;
         }
         {
-            let mut status = engine.status(now);
-            status.rejected.invalid += dropped;
+            let status = engine.status(now);
             let mut guard = snapshot.lock().unwrap_or_else(|p| p.into_inner());
             guard.tracks = engine.tracks().clone();
             guard.status = status;
@@ -146,7 +146,6 @@ fn handle(
     limiter: &mut LogLimiter,
     ask_tx: &mpsc::UnboundedSender<SensorId>,
 ) {
-    let now = clock::now();
     let result = match msg {
         Inbound::Set {
             key_sensor,
@@ -183,7 +182,7 @@ fn handle(
             }
         }
         let key = rejection_key(&rejection);
-        if let Some(suppressed) = limiter.allow(&key, now) {
+        if let Some(suppressed) = limiter.allow(&key) {
             tracing::warn!(suppressed, "{rejection}");
         }
     }

@@ -12,7 +12,6 @@ pub mod engine;
 mod engine_thread;
 pub mod history;
 pub mod latency;
-pub mod limiter;
 pub mod pacing;
 pub mod plot;
 pub mod processing;

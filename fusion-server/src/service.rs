@@ -6,12 +6,11 @@
 //! publisher task puts the latest `TrackSet` as soon as there is one (at most
 //! `output.max_publish_hz` times per second; `publisher.rs`, followed by its JSON copy and its
 //! place in the history that `_time` queries on the tracks queryable read, `track_output.rs`).
-//! One file per concern: `subscribers.rs`, `descriptor_fetch.rs`, `status_queryable.rs`,
-//! `signals.rs`.
+//! One file per concern: `subscribers.rs`, `descriptor_fetch.rs`, `status_queryable.rs`;
+//! the signals that stop it are `transport::shutdown`'s.
 
 mod descriptor_fetch;
 mod inlet;
-mod signals;
 mod status_queryable;
 mod subscribers;
 
@@ -23,6 +22,7 @@ use std::time::Duration;
 
 use protocol::{keys, SensorId, Site};
 use tokio::sync::mpsc;
+use transport::wait_for_signal;
 
 use crate::clock;
 use crate::config::ServerConfig;
@@ -31,7 +31,6 @@ use crate::engine_thread::{engine_loop, restore_checkpoint, Inbound, Snapshot};
 use crate::publisher::{self, Outbox};
 use crate::track_output::{self, TrackCopies};
 use inlet::Inlet;
-use signals::wait_for_signal;
 use subscribers::Subscribers;
 
 /// Runs the service until SIGINT or SIGTERM.

@@ -12,7 +12,7 @@ use gmphd::{
 use nalgebra::{DMatrix, DVector};
 use protocol::{MeasurementSet, Track};
 
-use crate::config::ServerConfig;
+use crate::config::{BirthKind, MotionKind, ServerConfig};
 
 pub use gmphd::TrackerState;
 
@@ -24,9 +24,9 @@ pub struct Tracker {
 
 fn motion_model(config: &ServerConfig) -> anyhow::Result<Box<dyn MotionModel>> {
     let f = &config.filter;
-    Ok(match f.motion.as_str() {
-        "random_walk" => Box::new(RandomWalk::new(3, f.position_noise_std, 0.0)?),
-        _ => Box::new(ConstantVelocity::new(3, f.accel_noise_std)?),
+    Ok(match f.motion {
+        MotionKind::RandomWalk => Box::new(RandomWalk::new(3, f.position_noise_std, 0.0)?),
+        MotionKind::ConstantVelocity => Box::new(ConstantVelocity::new(3, f.accel_noise_std)?),
     })
 }
 
@@ -35,8 +35,8 @@ fn birth_model(
     state_dim: usize,
 ) -> anyhow::Result<Box<dyn gmphd::BirthModel>> {
     let f = &config.filter;
-    Ok(match f.birth.as_str() {
-        "mixture" => {
+    Ok(match f.birth {
+        BirthKind::Mixture => {
             let mut variances = vec![f.birth_position_std.powi(2); 3];
             variances.resize(state_dim, f.birth_velocity_std.powi(2));
             let cov = DMatrix::from_diagonal(&DVector::from_vec(variances));
@@ -56,7 +56,7 @@ fn birth_model(
                 BirthTiming::PerSecond,
             )?)
         }
-        _ => Box::new(GridBirth::new(&GridBirthConfig {
+        BirthKind::Grid => Box::new(GridBirth::new(&GridBirthConfig {
             region_min: config.site.volume_min.to_vec(),
             region_max: config.site.volume_max.to_vec(),
             cells: config.filter.birth_grid.to_vec(),

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use fusion_server::config::ServerConfig;
+use fusion_server::config::{BirthKind, MotionKind, ServerConfig};
 
 fn example() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/fusion.example.toml"))
@@ -41,14 +41,47 @@ fn the_example_file_is_valid_and_holds_the_defaults() {
     assert_eq!(loaded.site.name, "default");
 }
 
+/// A static position sensor, as `fusion.example.toml` shows it.
+const STATIC_SENSOR: &str = "[[sensors]]
+version = 1
+site = \"default\"
+sensor = \"pos1\"
+detection_probability = 0.9
+clutter_rate = 1.0
+model = { kind = \"position\", noise_std = [0.1, 0.1, 0.1], region = { min = [0, 0, 0], max = [3, 2, 2.2] } }
+";
+
+#[test]
+fn typed_values_at_load() {
+    let file = write_toml(&format!(
+        "[filter]\nmotion = \"random_walk\"\nbirth = \"mixture\"\nbirth_means = [[1, 1, 1]]\n{STATIC_SENSOR}"
+    ));
+    let config = ServerConfig::load(Some(file.path())).unwrap();
+    assert_eq!(config.filter.motion, MotionKind::RandomWalk);
+    assert_eq!(config.filter.birth, BirthKind::Mixture);
+    assert_eq!(config.sensors.len(), 1);
+    assert_eq!(config.sensors[0].sensor.as_str(), "pos1");
+    assert_eq!(config.sensors[0].detection_probability, 0.9);
+}
+
 #[test]
 fn bad_values_name_their_key() {
+    let foreign_sensor = STATIC_SENSOR.replace("\"default\"", "\"elsewhere\"");
+    let impossible_sensor = STATIC_SENSOR.replace("= 0.9", "= 1.9");
     let cases = [
         (
             "[filter]\nsurvival_probability = 1.5\n",
             "filter.survival_probability",
         ),
         ("[filter]\nmotion = \"teleport\"\n", "filter.motion"),
+        ("[filter]\nbirth = \"everywhere\"\n", "filter.birth"),
+        ("[filter]\nbirth = \"mixture\"\n", "filter.birth_means"),
+        (
+            "[[sensors]]\nversion = 1\nsite = \"default\"\nsensor = \"pos1\"\n",
+            "sensors[0]",
+        ),
+        (foreign_sensor.as_str(), "sensors[0]"),
+        (impossible_sensor.as_str(), "sensors[0]"),
         (
             "[filter]\nadaptive_birth_rate = -0.5\n",
             "filter.adaptive_birth_rate",

@@ -10,12 +10,12 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use fusion_server::clock;
-use fusion_server::limiter::LogLimiter;
 use protocol::{
     keys, parse_sensor_key, parse_site_key, MeasurementSet, SensorDescriptor, SensorKeyKind, Site,
     SiteKeyKind, Status, TrackSet, TruthSet, WireFormat,
 };
 use serde::de::DeserializeOwned;
+use transport::LogLimiter;
 use zenoh::query::ConsolidationMode;
 use zenoh::sample::{Sample, SampleKind};
 
@@ -55,7 +55,7 @@ impl Sink {
     fn refuse(&self, site: &Site, key: &str, what: &str, reason: &str) {
         self.lock().on_rejected(site);
         let mut limiter = self.limiter.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some(suppressed) = limiter.allow(key, clock::now()) {
+        if let Some(suppressed) = limiter.allow(key) {
             tracing::warn!(key, suppressed, "{what} refused: {reason}");
         }
     }
@@ -150,7 +150,7 @@ impl Sink {
 pub async fn start(session: &zenoh::Session, sites: SharedSites) -> anyhow::Result<Inputs> {
     let sink = Arc::new(Sink {
         sites: sites.clone(),
-        limiter: Mutex::new(LogLimiter::new(5.0)),
+        limiter: Mutex::new(LogLimiter::new(std::time::Duration::from_secs(5))),
     });
     let mut subscribers = Vec::new();
     let root = keys::ROOT;

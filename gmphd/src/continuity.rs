@@ -199,7 +199,7 @@ impl LabelContinuity {
         let dt = (t - self.previous_time).max(0.0);
         let mut previous = Vec::with_capacity(self.previous.len());
         for estimate in &self.previous {
-            let predicted = motion.predict_mean(&estimate.mean, &estimate.cov, dt)?;
+            let (predicted, _) = motion.predict(&estimate.mean, &estimate.cov, dt)?;
             previous.push(PreviousEstimate {
                 label: estimate.label,
                 predicted: position(motion, &predicted),

@@ -159,22 +159,6 @@ impl MotionModel for ConstantVelocity {
         Ok((mean, cov))
     }
 
-    fn predict_mean(
-        &self,
-        mean: &DVector<f64>,
-        cov: &DMatrix<f64>,
-        dt: f64,
-    ) -> Result<DVector<f64>, FilterError> {
-        check_dt(dt)?;
-        check_gaussian_dims(mean, cov, self.state_dim())?;
-        let mut mean = mean.clone();
-        match self.dims {
-            2 => advance_mean::<2>(mean.as_mut_slice(), dt),
-            _ => advance_mean::<3>(mean.as_mut_slice(), dt),
-        }
-        Ok(mean)
-    }
-
     fn predict_all_in_place(
         &self,
         components: &mut [Gaussian],
@@ -255,12 +239,6 @@ mod tests {
         let (by_predict_mean, by_predict_cov) = model.predict(&mean, &cov, dt).unwrap();
         assert_eq!(in_place[0].mean, by_predict_mean);
         assert_eq!(in_place[0].cov, by_predict_cov);
-        // The mean alone, without the covariance's work, is the same bit for bit.
-        assert_eq!(
-            model.predict_mean(&mean, &cov, dt).unwrap(),
-            by_predict_mean
-        );
-        assert!(model.predict_mean(&mean, &cov, -dt).is_err());
         let f = model.transition(dt);
         let expected_cov = &f * &cov * f.transpose() + model.process_noise(dt);
         assert!((&f * &mean - &in_place[0].mean).amax() < 1e-12);

@@ -44,17 +44,6 @@ pub trait MotionModel: Send + Sync + Debug {
         dt: f64,
     ) -> Result<(DVector<f64>, DMatrix<f64>), FilterError>;
 
-    /// The mean [`MotionModel::predict`] gives, for callers that need no covariance. The
-    /// default computes both; a model can spare the covariance's work.
-    fn predict_mean(
-        &self,
-        mean: &DVector<f64>,
-        cov: &DMatrix<f64>,
-        dt: f64,
-    ) -> Result<DVector<f64>, FilterError> {
-        Ok(self.predict(mean, cov, dt)?.0)
-    }
-
     /// Predicts every one of `components` over `dt` seconds in place (weights and labels
     /// untouched), all or none: on error every component is as it was.
     ///

@@ -56,15 +56,6 @@ pub struct Args {
     pub log: std::path::PathBuf,
 }
 
-/// Nearest-rank percentile of sorted values (NaN when empty).
-pub fn percentile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let rank = (q * sorted.len() as f64).ceil() as usize;
-    sorted[rank.saturating_sub(1).min(sorted.len() - 1)]
-}
-
 fn offline_phase(args: &Args) -> anyhow::Result<()> {
     let config = dense_config(args.max_components);
     let scenario = simulator::dense();

@@ -6,7 +6,9 @@ use std::time::{Duration, Instant};
 use crate::echo::Echo;
 use crate::offline::{arrivals, scenario_sets, Arrival};
 use crate::rig::{Receipt, Rig};
-use crate::{percentile, Args};
+use fusion_server::latency::LatencyHistogram;
+
+use crate::Args;
 
 /// One set as the client sent it.
 struct Sent {
@@ -27,10 +29,8 @@ fn covering(receipts: &[Receipt], stamp: f64, put_at: Instant) -> Option<Instant
         .map(|r| r.at)
 }
 
-fn sorted_ms(values: impl Iterator<Item = Duration>) -> Vec<f64> {
-    let mut ms: Vec<f64> = values.map(|d| d.as_secs_f64() * 1000.0).collect();
-    ms.sort_by(f64::total_cmp);
-    ms
+fn histogram_ms(values: impl Iterator<Item = Duration>) -> LatencyHistogram {
+    LatencyHistogram::of(values.map(|d| d.as_secs_f64() * 1000.0))
 }
 
 /// Latency at the real-time rate against the server's default configuration.
@@ -77,24 +77,24 @@ async fn report_latency(
     seconds: f64,
 ) -> anyhow::Result<()> {
     let receipts = rig.receipts.lock().unwrap().clone();
-    let service = sorted_ms(sent.iter().filter(|s| s.on_time).filter_map(|s| {
+    let service = histogram_ms(sent.iter().filter(|s| s.on_time).filter_map(|s| {
         covering(&receipts, s.stamp, s.put_at).map(|at| at.duration_since(s.put_at))
     }));
-    let bare = sorted_ms(sent.iter().enumerate().filter_map(|(i, s)| {
+    let bare = histogram_ms(sent.iter().enumerate().filter_map(|(i, s)| {
         echo.returned(i as u64)
             .map(|at| at.duration_since(s.echo_sent))
     }));
     let status = rig.status().await?;
     let sum = |f: fn(&protocol::SensorStatus) -> u64| -> u64 { status.sensors.iter().map(f).sum() };
     println!(
-        "default configuration, {arrival:?}, {:.0} sets/s: put → first TrackSet including the set (on-time sensors, {} of {}): p50 {:.3} ms, p99 {:.3} ms; bare zenoh round trip: p50 {:.3} ms, p99 {:.3} ms",
+        "default configuration, {arrival:?}, {:.0} sets/s: put → first TrackSet including the set (on-time sensors, {} of {}): p50 {} ms, p99 {} ms; bare zenoh round trip: p50 {} ms, p99 {} ms",
         sent.len() as f64 / seconds,
         service.len(),
         sent.iter().filter(|s| s.on_time).count(),
-        percentile(&service, 0.5),
-        percentile(&service, 0.99),
-        percentile(&bare, 0.5),
-        percentile(&bare, 0.99),
+        fmt_ms(service.quantile(0.5)),
+        fmt_ms(service.quantile(0.99)),
+        fmt_ms(bare.quantile(0.5)),
+        fmt_ms(bare.quantile(0.99)),
     );
     println!(
         "  server: {} sets sent, {} processed, {} late, {} invalid; {} rollbacks ({:.2} per set), {} re-processed; arrival → put p50 {} ms, p99 {} ms; {} TrackSets received; peak memory {}",

@@ -1,5 +1,5 @@
-//! Graceful shutdown on Ctrl-C or SIGTERM: the run loop stops between two frames, the liveliness tokens are
-//! undeclared and the session is closed, so the server sees the sensor leave at once.
+//! Graceful shutdown on Ctrl-C or SIGTERM (what `docker stop` and systemd send), for the server
+//! and the agents alike.
 
 use tokio::sync::watch;
 
@@ -36,8 +36,9 @@ impl Shutdown {
     }
 }
 
-/// Waits for Ctrl-C, or SIGTERM on Unix (what `docker stop` sends).
-async fn wait_for_signal() {
+/// Completes on Ctrl-C or, on Unix, SIGTERM. When a signal cannot be listened for, says so and
+/// waits for the other.
+pub async fn wait_for_signal() {
     let ctrl_c = async {
         if let Err(e) = tokio::signal::ctrl_c().await {
             tracing::warn!(error = %e, "cannot listen for Ctrl-C");
