@@ -1,23 +1,19 @@
 //! GCC-PHAT delay estimation: the protocol's sign convention, sub-sample accuracy in the free field, and empty
 //! sets when there is nothing to localise.
 
-#[path = "support/room_model.rs"]
-mod room_model;
 #[path = "support/room_scene.rs"]
 mod room_scene;
-#[path = "support/room_speech.rs"]
-mod room_speech;
 
 use frontends::mic::{MicPairConfig, MicPairPipeline, StereoAudio};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use room_model::{add_fractional_impulse, convolve, ShoeboxRoom};
 use room_scene::{
     render_scene, talker_active_in_frame, Scene, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE,
     SPEED_OF_SOUND,
 };
-use room_speech::Voice;
+use simulator::render::room_acoustics::{add_fractional_impulse, convolve, ShoeboxRoom};
+use simulator::render::speech::Voice;
 
 const RATE: f64 = SAMPLE_RATE as f64;
 const MIC_DISTANCE: f64 = 0.5;

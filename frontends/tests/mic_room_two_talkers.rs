@@ -1,19 +1,15 @@
 //! Two talkers in a reverberant room: the pipeline's TDOA sets contain each active talker's true TDOA.
 
-#[path = "support/room_model.rs"]
-mod room_model;
 #[path = "support/room_scene.rs"]
 mod room_scene;
-#[path = "support/room_speech.rs"]
-mod room_speech;
 
 use frontends::mic::{MicPairConfig, MicPairPipeline, StereoAudio};
-use room_model::{schroeder_t60, ShoeboxRoom};
 use room_scene::{
     render_scene, talker_active_in_frame, TalkerSpec, MICS, ROOM_SIZE, SAMPLE_RATE, SPEED_OF_SOUND,
     T60,
 };
-use room_speech::Voice;
+use simulator::render::room_acoustics::{schroeder_t60, ShoeboxRoom};
+use simulator::render::speech::Voice;
 
 /// Two samples at 16 kHz: how close a reported peak must be to a talker's true TDOA.
 const TOLERANCE_S: f64 = 2.0 / 16_000.0;

@@ -62,6 +62,7 @@ mod error;
 mod motion;
 mod presets;
 mod random_walk;
+pub mod render;
 mod replay;
 mod scenario;
 mod seeding;

@@ -1,14 +1,14 @@
 //! Test utility: the microphone-pair test scene — talkers in a 3 × 3 × 2.5 m room (T60 ≈ 0.15 s by Sabine),
-//! two microphones 0.5 m apart, 16 kHz, white sensor noise at a given SNR. Needs `room_model` and
-//! `room_speech` declared next to it in the including test crate.
+//! two microphones 0.5 m apart, 16 kHz, white sensor noise at a given SNR (the room and the voices are
+//! `simulator::render`'s).
 #![allow(dead_code)] // each test crate includes this file and uses a different part of it
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use super::room_model::{convolve, true_tdoa, ShoeboxRoom};
-use super::room_speech::{speech_like, Voice};
+use simulator::render::room_acoustics::{convolve, true_tdoa, ShoeboxRoom};
+use simulator::render::speech::{speech_like, Voice};
 
 /// Sample rate of every scene, Hz.
 pub const SAMPLE_RATE: u32 = 16_000;

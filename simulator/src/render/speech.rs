@@ -1,8 +1,7 @@
-//! Test utility: a seeded, speech-like signal. Syllables are an optional fricative (band-passed noise) followed
+//! A seeded, speech-like signal. Syllables are an optional fricative (band-passed noise) followed
 //! by a vowel: a glottal pulse train with gliding, slightly jittered pitch and a little breath noise, shaped by a
 //! parallel bank of four formant resonators. Syllables follow each other at a syllabic rhythm with short pauses
 //! and occasional longer ones.
-#![allow(dead_code)] // each test crate includes this file and uses a different part of it
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;

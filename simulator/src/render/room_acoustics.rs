@@ -1,6 +1,6 @@
-//! Test utility: image-source model of a shoebox room (Allen & Berkley, JASA 65(4), 1979) with fractional-delay
-//! (windowed-sinc) impulse responses, and FFT convolution.
-#![allow(dead_code)] // each test crate includes this file and uses a different part of it
+//! Room acoustics: the image-source model of a shoebox room (Allen & Berkley, JASA 65(4), 1979)
+//! with fractional-delay (windowed-sinc) impulse responses, FFT convolution, and the Schroeder
+//! estimate of a response's reverberation time that checks them.
 
 use realfft::RealFftPlanner;
 
@@ -64,8 +64,25 @@ impl ShoeboxRoom {
         c: f64,
         length: usize,
     ) -> Vec<f64> {
-        let mut response = vec![0.0; length];
-        let max_distance = length as f64 / sample_rate * c;
+        self.impulse_response_part(source, mic, sample_rate, c, 0..length, SINC_HALF_WIDTH)
+    }
+
+    /// The part of [`ShoeboxRoom::impulse_response`] made by the images whose delay (in samples) lies in
+    /// `delays`, each a windowed sinc of `half_width` samples either side: with [`SINC_HALF_WIDTH`], the sum of
+    /// the parts over adjacent ranges is the whole response, each image's kernel placed in full. A renderer of moving sources updates the early part (direct path and first reflections,
+    /// which carry the direction) more often than the diffuse tail.
+    pub fn impulse_response_part(
+        &self,
+        source: [f64; 3],
+        mic: [f64; 3],
+        sample_rate: f64,
+        c: f64,
+        delays: std::ops::Range<usize>,
+        half_width: usize,
+    ) -> Vec<f64> {
+        let mut response = vec![0.0; delays.end];
+        let min_distance = delays.start as f64 / sample_rate * c;
+        let max_distance = delays.end as f64 / sample_rate * c;
         let images: Vec<Vec<(f64, i32)>> = (0..3)
             .map(|axis| self.axis_images(axis, source[axis], mic[axis], max_distance))
             .collect();
@@ -73,12 +90,12 @@ impl ShoeboxRoom {
             for &(dy, ry) in &images[1] {
                 for &(dz, rz) in &images[2] {
                     let distance = (dx * dx + dy * dy + dz * dz).sqrt();
-                    if distance > max_distance {
+                    if distance < min_distance || distance >= max_distance {
                         continue;
                     }
                     let gain = self.reflection.powi(rx + ry + rz)
                         / (4.0 * std::f64::consts::PI * distance);
-                    add_fractional_impulse(&mut response, distance / c * sample_rate, gain);
+                    add_windowed_sinc(&mut response, distance / c * sample_rate, gain, half_width);
                 }
             }
         }
@@ -109,25 +126,44 @@ impl ShoeboxRoom {
     }
 }
 
-/// Adds `gain` times a Hann-windowed sinc centred at the fractional sample `delay` to `buffer`.
+/// Adds `gain` times a Hann-windowed sinc centred at the fractional sample `delay` to `buffer`
+/// ([`SINC_HALF_WIDTH`] samples either side).
 pub fn add_fractional_impulse(buffer: &mut [f64], delay: f64, gain: f64) {
-    let half = SINC_HALF_WIDTH as f64;
-    let first = (delay - half).ceil().max(0.0) as usize;
-    let last = ((delay + half).floor() as usize).min(buffer.len().saturating_sub(1));
-    for (n, slot) in buffer.iter_mut().enumerate().take(last + 1).skip(first) {
-        let t = n as f64 - delay;
-        let window = 0.5 * (1.0 + (std::f64::consts::PI * t / half).cos());
-        *slot += gain * sinc(t) * window;
-    }
+    add_windowed_sinc(buffer, delay, gain, SINC_HALF_WIDTH);
 }
 
-/// Normalised sinc, sin(πt)/(πt).
-fn sinc(t: f64) -> f64 {
-    if t.abs() < 1e-12 {
-        1.0
-    } else {
-        let x = std::f64::consts::PI * t;
-        x.sin() / x
+/// Adds `gain` times a Hann-windowed sinc of `half_width` samples either side, centred at the
+/// fractional sample `delay`, to `buffer`.
+///
+/// Two sines per call instead of two per sample: sin(π(n − d)) only changes sign from one sample
+/// to the next, and the window's cosine advances by a fixed angle (a rotation).
+pub fn add_windowed_sinc(buffer: &mut [f64], delay: f64, gain: f64, half_width: usize) {
+    use std::f64::consts::PI;
+    let half = half_width as f64;
+    let first = (delay - half).ceil().max(0.0) as usize;
+    let last = ((delay + half).floor() as usize).min(buffer.len().saturating_sub(1));
+    if first > last || buffer.is_empty() {
+        return;
+    }
+    let t0 = first as f64 - delay;
+    // sin(π t) at t0, then alternating in sign.
+    let mut sine = (PI * t0).sin();
+    let step = PI / half;
+    let (step_sin, step_cos) = step.sin_cos();
+    let (mut win_sin, mut win_cos) = (step * t0).sin_cos();
+    for (k, slot) in buffer[first..=last].iter_mut().enumerate() {
+        let t = t0 + k as f64;
+        let sinc = if t.abs() < 1e-12 {
+            1.0
+        } else {
+            sine / (PI * t)
+        };
+        *slot += gain * sinc * 0.5 * (1.0 + win_cos);
+        sine = -sine;
+        (win_sin, win_cos) = (
+            win_sin * step_cos + win_cos * step_sin,
+            win_cos * step_cos - win_sin * step_sin,
+        );
     }
 }
 
