@@ -1,6 +1,7 @@
 //! Watching a running deployment from the outside, as any client would: subscribe to the truth
-//! (simulations only) and to the tracks, score them with OSPA/GOSPA, and query `tracks` and
-//! `status`. Used by `fusion-checker` (compose tests), `fusion-demo` and the integration tests.
+//! (simulations only) and to the tracks, score them with OSPA/GOSPA (the `evaluation` crate),
+//! and query `tracks` and `status`. Used by `fusion-checker` (compose tests), `fusion-demo` and
+//! the integration tests.
 
 pub mod processes;
 pub mod rogue;
@@ -9,7 +10,7 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use fusion_server::replay::{score, Score};
+use evaluation::{score, Score};
 use protocol::{keys, Site, Status, TrackSet, TruthSet, WireFormat};
 use serde::de::DeserializeOwned;
 use zenoh::sample::Sample;
@@ -151,19 +152,4 @@ async fn query<T: DeserializeOwned>(
     let got = WireFormat::from_zenoh(sample.encoding())?;
     anyhow::ensure!(got == format, "get {selector}: reply encoded as {got:?}");
     Ok(protocol::decode(&sample.payload().to_bytes(), got)?)
-}
-
-/// Mean of the scores' OSPA from `from` on (stamp), with how many there were.
-pub fn mean_ospa(scores: &[Score], from: f64) -> Option<(f64, usize)> {
-    let picked: Vec<f64> = scores
-        .iter()
-        .filter(|s| s.stamp >= from)
-        .map(|s| s.ospa)
-        .collect();
-    (!picked.is_empty()).then(|| {
-        (
-            picked.iter().sum::<f64>() / picked.len() as f64,
-            picked.len(),
-        )
-    })
 }

@@ -3,7 +3,8 @@
 //! [`engine::Engine`] admits measurement sets and processes each at once on a
 //! [`timeline::Timeline`] (in stamp order; a late set rolls the filter back and re-processes)
 //! with the [`tracker::Tracker`] (filter + labels + track confirmation). [`service::run`] wires
-//! it to Zenoh; [`replay::replay`] runs it offline over a replay file.
+//! it to Zenoh; [`replay::replay`] runs it offline over a replay file and scores its output
+//! against the file's truth with the `evaluation` crate.
 
 pub mod checkpoint;
 pub mod clock;
@@ -13,7 +14,6 @@ mod engine_thread;
 pub mod history;
 pub mod latency;
 pub mod pacing;
-pub mod plot;
 pub mod processing;
 mod publisher;
 mod rejection;

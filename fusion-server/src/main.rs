@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use fusion_server::config::ServerConfig;
-use fusion_server::{plot, replay, service};
+use fusion_server::{replay, service};
 use tracing_subscriber::EnvFilter;
 
 /// The filter allocates a mean and a covariance per updated component; mimalloc (through
@@ -99,8 +99,8 @@ fn main() -> anyhow::Result<()> {
                 _ => println!("no truth in the input: accuracy not computed"),
             }
             if let Some(path) = plot_path {
-                plot::plot(
-                    plot::PlotData {
+                evaluation::plot(
+                    evaluation::PlotData {
                         tracks: &report.tracks,
                         truth: &report.truth,
                         scores: &report.scores,

@@ -4,27 +4,11 @@
 use std::collections::BTreeMap;
 use std::io::{BufRead, Write};
 
-use gmphd::metrics::{gospa, ospa, MetricParams};
-use nalgebra::DVector;
+use evaluation::{mean_gospa, mean_ospa, score, Score};
 use protocol::{ReplayLine, TrackSet, TruthSet};
 
 use crate::config::ServerConfig;
 use crate::engine::Engine;
-
-/// Accuracy of one output track set against the truth nearest in time.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Score {
-    /// Stamp of the track set.
-    pub stamp: f64,
-    /// OSPA distance (c = 1 m, p = 1).
-    pub ospa: f64,
-    /// GOSPA distance (c = 1 m, p = 1, α = 2).
-    pub gospa: f64,
-    /// Number of true objects.
-    pub truth_count: usize,
-    /// Number of tracks.
-    pub track_count: usize,
-}
 
 /// What a replay produced besides its output lines.
 #[derive(Debug, Default)]
@@ -35,7 +19,7 @@ pub struct ReplayReport {
     pub bad_lines: usize,
     /// Output track sets written.
     pub outputs: usize,
-    /// One score per output track set that has a truth within `TRUTH_TOLERANCE_S`.
+    /// One score per output track set that has a truth within [`evaluation::TRUTH_TOLERANCE_S`].
     pub scores: Vec<Score>,
     /// The output track sets (kept for plotting).
     pub tracks: Vec<TrackSet>,
@@ -43,34 +27,21 @@ pub struct ReplayReport {
     pub truth: Vec<TruthSet>,
 }
 
-/// A truth line farther than this from a track set's stamp is not used to score it.
-pub const TRUTH_TOLERANCE_S: f64 = 0.05;
-
 impl ReplayReport {
     /// Mean OSPA over all scored track sets.
     pub fn mean_ospa(&self) -> Option<f64> {
-        mean(self.scores.iter().map(|s| s.ospa))
+        self.mean_ospa_from(f64::NEG_INFINITY)
     }
 
     /// Mean GOSPA over all scored track sets.
     pub fn mean_gospa(&self) -> Option<f64> {
-        mean(self.scores.iter().map(|s| s.gospa))
+        mean_gospa(&self.scores, f64::NEG_INFINITY).map(|(mean, _)| mean)
     }
 
     /// Mean OSPA over scored track sets stamped at or after `from`.
     pub fn mean_ospa_from(&self, from: f64) -> Option<f64> {
-        mean(
-            self.scores
-                .iter()
-                .filter(|s| s.stamp >= from)
-                .map(|s| s.ospa),
-        )
+        mean_ospa(&self.scores, from).map(|(mean, _)| mean)
     }
-}
-
-fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
-    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-    (n > 0).then(|| sum / n as f64)
 }
 
 /// Runs the pipeline over `input`, writing one `TrackSet` JSON line per processed set to `output`.
@@ -148,47 +119,4 @@ fn write_line(output: &mut impl Write, tracks: &TrackSet) -> anyhow::Result<()> 
     serde_json::to_writer(&mut *output, tracks)?;
     output.write_all(b"\n")?;
     Ok(())
-}
-
-/// Scores each track set against the truth set nearest in time (within `TRUTH_TOLERANCE_S`).
-pub fn score(tracks: &[TrackSet], truth: &BTreeMap<u64, TruthSet>) -> anyhow::Result<Vec<Score>> {
-    let params = MetricParams::new(1.0, 1.0)?;
-    let mut scores = Vec::new();
-    for set in tracks {
-        let Some(nearest) = nearest_truth(truth, set.stamp) else {
-            continue;
-        };
-        let truth_points: Vec<DVector<f64>> = nearest
-            .objects
-            .iter()
-            .map(|o| DVector::from_column_slice(&o.position))
-            .collect();
-        let track_points: Vec<DVector<f64>> = set
-            .tracks
-            .iter()
-            .map(|t| DVector::from_column_slice(&t.position))
-            .collect();
-        scores.push(Score {
-            stamp: set.stamp,
-            ospa: ospa(&truth_points, &track_points, params)?.distance,
-            gospa: gospa(&truth_points, &track_points, params)?.distance,
-            truth_count: truth_points.len(),
-            track_count: track_points.len(),
-        });
-    }
-    Ok(scores)
-}
-
-fn nearest_truth(truth: &BTreeMap<u64, TruthSet>, stamp: f64) -> Option<&TruthSet> {
-    if !(stamp.is_finite() && stamp >= 0.0) {
-        return None;
-    }
-    let key = stamp.to_bits();
-    let before = truth.range(..=key).next_back().map(|(_, t)| t);
-    let after = truth.range(key..).next().map(|(_, t)| t);
-    [before, after]
-        .into_iter()
-        .flatten()
-        .min_by(|a, b| (a.stamp - stamp).abs().total_cmp(&(b.stamp - stamp).abs()))
-        .filter(|t| (t.stamp - stamp).abs() <= TRUTH_TOLERANCE_S)
 }

@@ -4,7 +4,8 @@
 
 mod support;
 
-use checker::{mean_ospa, query_status, query_tracks, Observer};
+use checker::{query_status, query_tracks, Observer};
+use evaluation::mean_ospa;
 use protocol::{keys, MeasurementSet, SensorDescriptor, SensorId, Site, WireFormat};
 use support::{now, scratch, sleep, start_agents, start_server, Hub};
 use zenoh::bytes::Encoding;

@@ -7,8 +7,9 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use checker::rogue::run_rogue;
-use checker::{mean_ospa, query_status, query_tracks, Observer};
+use checker::{query_status, query_tracks, Observer};
 use clap::{Parser, Subcommand};
+use evaluation::mean_ospa;
 use protocol::{SensorId, Site, WireFormat};
 use transport::ZenohConfig;
 
@@ -86,17 +87,7 @@ async fn main() -> anyhow::Result<()> {
         .init();
     let cli = Cli::parse();
     let site = Site::new(&cli.site)?;
-    let config = ZenohConfig {
-        mode: cli.mode.clone(),
-        connect: cli.connect.clone(),
-        listen: Vec::new(),
-        scouting: false,
-        config_file: cli.zenoh_config.clone(),
-    };
-    config
-        .validate()
-        .map_err(|(key, reason)| anyhow::anyhow!("zenoh {key}: {reason}"))?;
-    let session = config.open().await?;
+    let session = zenoh_config(&cli)?.open().await?;
     let code = match cli.command {
         Command::Status => {
             let status = query_status(&session, &site, WireFormat::Json).await?;
@@ -113,56 +104,93 @@ async fn main() -> anyhow::Result<()> {
             skip,
             max_ospa,
         } => watch(&session, &site, duration, skip, max_ospa).await?,
-        Command::WaitTracks { timeout } => {
-            let observer = Observer::start(&session, &site).await?;
-            let began = Instant::now();
-            loop {
-                if observer.latest_tracks().is_some() {
-                    println!(
-                        "tracks flowing after {:.2} s",
-                        began.elapsed().as_secs_f64()
-                    );
-                    break 0;
-                }
-                if began.elapsed().as_secs_f64() > timeout {
-                    println!("no track set within {timeout} s");
-                    break 1;
-                }
-                tokio::time::sleep(Duration::from_millis(100)).await;
-            }
-        }
-        Command::Ids { duration } => {
-            let observer = Observer::start(&session, &site).await?;
-            tokio::time::sleep(Duration::from_secs_f64(duration)).await;
-            let ids = identities(&observer.snapshot());
-            println!("{}", serde_json::to_string(&ids)?);
-            i32::from(ids.is_empty())
-        }
+        Command::WaitTracks { timeout } => wait_tracks(&session, &site, timeout).await?,
+        Command::Ids { duration } => print_identities(&session, &site, duration).await?,
         Command::Rogue {
             victim,
             duration,
             rate,
-        } => {
-            let victim = SensorId::new(victim)?;
-            let report = run_rogue(
-                &session,
-                &site,
-                &victim,
-                Duration::from_secs_f64(duration),
-                rate,
-            )
-            .await?;
-            println!(
-                "rogue sent {} garbage, {} invalid, {} unknown-sensor messages",
-                report.garbage, report.invalid, report.unknown
-            );
-            0
-        }
+        } => rogue(&session, &site, victim, duration, rate).await?,
     };
     let _ = session.close().await;
     std::process::exit(code);
 }
 
+/// The client's Zenoh configuration from the command line, checked before it is used.
+fn zenoh_config(cli: &Cli) -> anyhow::Result<ZenohConfig> {
+    let config = ZenohConfig {
+        mode: cli.mode.clone(),
+        connect: cli.connect.clone(),
+        listen: Vec::new(),
+        scouting: false,
+        config_file: cli.zenoh_config.clone(),
+    };
+    config
+        .validate()
+        .map_err(|(key, reason)| anyhow::anyhow!("zenoh {key}: {reason}"))?;
+    Ok(config)
+}
+
+/// `wait-tracks`: 0 once a track set arrives, 1 when none does within `timeout` seconds.
+async fn wait_tracks(session: &zenoh::Session, site: &Site, timeout: f64) -> anyhow::Result<i32> {
+    let observer = Observer::start(session, site).await?;
+    let began = Instant::now();
+    loop {
+        if observer.latest_tracks().is_some() {
+            println!(
+                "tracks flowing after {:.2} s",
+                began.elapsed().as_secs_f64()
+            );
+            return Ok(0);
+        }
+        if began.elapsed().as_secs_f64() > timeout {
+            println!("no track set within {timeout} s");
+            return Ok(1);
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}
+
+/// `ids`: prints which track ids each true object got over `duration` seconds; 1 when none.
+async fn print_identities(
+    session: &zenoh::Session,
+    site: &Site,
+    duration: f64,
+) -> anyhow::Result<i32> {
+    let observer = Observer::start(session, site).await?;
+    tokio::time::sleep(Duration::from_secs_f64(duration)).await;
+    let ids = identities(&observer.snapshot());
+    println!("{}", serde_json::to_string(&ids)?);
+    Ok(i32::from(ids.is_empty()))
+}
+
+/// `rogue`: misbehaves as `victim` for `duration` seconds at `rate` messages per second and
+/// prints what it sent.
+async fn rogue(
+    session: &zenoh::Session,
+    site: &Site,
+    victim: String,
+    duration: f64,
+    rate: f64,
+) -> anyhow::Result<i32> {
+    let victim = SensorId::new(victim)?;
+    let report = run_rogue(
+        session,
+        site,
+        &victim,
+        Duration::from_secs_f64(duration),
+        rate,
+    )
+    .await?;
+    println!(
+        "rogue sent {} garbage, {} invalid, {} unknown-sensor messages",
+        report.garbage, report.invalid, report.unknown
+    );
+    Ok(0)
+}
+
+/// `watch`: scores the tracks against the truth for `duration` seconds, leaving out the first
+/// `skip`; 1 when nothing could be scored or the mean OSPA exceeds `max_ospa`.
 async fn watch(
     session: &zenoh::Session,
     site: &Site,

@@ -3,14 +3,14 @@
 //! prints live tracks, and at the end OSPA against the truth and an SVG plot. `fusion-view` runs
 //! beside them: the demo prints its URL, where the run can be watched in a browser.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
 use checker::processes::{binary, free_port, Managed};
-use checker::{mean_ospa, query_status, Observer};
+use checker::{query_status, Observed, Observer};
 use clap::Parser;
-use fusion_server::plot::{plot, PlotData};
+use evaluation::{mean_ospa, plot, PlotData};
 use protocol::WireFormat;
 use transport::ZenohConfig;
 
@@ -43,11 +43,7 @@ struct Args {
 
 /// Starts `fusion-view` as a peer of `endpoint` on `address` (or on a free port when that one is
 /// taken) and prints its URL; `None`, saying why, when it cannot run.
-fn start_view(
-    endpoint: &str,
-    address: std::net::SocketAddr,
-    logs: &std::path::Path,
-) -> Option<Managed> {
+fn start_view(endpoint: &str, address: std::net::SocketAddr, logs: &Path) -> Option<Managed> {
     let address = match std::net::TcpListener::bind(address) {
         Ok(_) => address.to_string(),
         Err(_) => format!("127.0.0.1:{}", free_port().ok()?),
@@ -93,27 +89,70 @@ async fn main() -> anyhow::Result<()> {
         scenario.sensors.len(),
         args.duration
     );
-    let mut server_cmd = Command::new(&server_bin);
-    server_cmd
-        .arg("run")
-        .env("FUSION__ZENOH__MODE", "peer")
-        .env("FUSION__ZENOH__LISTEN", &endpoint)
-        .env("FUSION__SITE__NAME", site.as_str())
-        .env("FUSION__LOG__LEVEL", "info,zenoh=warn");
-    let mut server = Managed::spawn(
-        "fusion-server",
-        server_cmd,
-        Some(&args.logs.join("fusion-server.log")),
-    )?;
-
+    let mut server = start_server(&server_bin, &endpoint, &site, &args.logs)?;
     // Let the server listen before the agents connect; all agents share one start time so that
     // their stamps and truth agree.
     tokio::time::sleep(Duration::from_millis(500)).await;
     let start = fusion_server::clock::now() + 1.5;
+    let mut agents = start_agents(&agent_bin, &scenario, &args, &endpoint, start)?;
+
+    let watcher = ZenohConfig {
+        connect: vec![endpoint.clone()],
+        ..ZenohConfig::default()
+    };
+    let session = watcher.open().await?;
+    let observer = Observer::start(&session, &site).await?;
+    let mut view = (!args.no_view)
+        .then(|| start_view(&endpoint, args.view, &args.logs))
+        .flatten();
+    print_live_tracks(&observer, &mut server, &args, start).await?;
+
+    let status = query_status(&session, &site, WireFormat::Json).await;
+    let observed = observer.snapshot();
+    for agent in agents.iter_mut().chain(view.as_mut()) {
+        agent.stop(Duration::from_secs(3));
+    }
+    server.stop(Duration::from_secs(5));
+
+    println!();
+    print_status(status);
+    report_accuracy(&observed, &args.plot)
+}
+
+/// Starts the fusion server as a peer listening on `endpoint`, logging into `logs`.
+fn start_server(
+    server_bin: &Path,
+    endpoint: &str,
+    site: &protocol::Site,
+    logs: &Path,
+) -> anyhow::Result<Managed> {
+    let mut server_cmd = Command::new(server_bin);
+    server_cmd
+        .arg("run")
+        .env("FUSION__ZENOH__MODE", "peer")
+        .env("FUSION__ZENOH__LISTEN", endpoint)
+        .env("FUSION__SITE__NAME", site.as_str())
+        .env("FUSION__LOG__LEVEL", "info,zenoh=warn");
+    Managed::spawn(
+        "fusion-server",
+        server_cmd,
+        Some(&logs.join("fusion-server.log")),
+    )
+}
+
+/// Starts one simulating edge agent per sensor of `scenario`, all with scenario time 0 at
+/// `start`; the first also publishes the truth.
+fn start_agents(
+    agent_bin: &Path,
+    scenario: &simulator::Scenario,
+    args: &Args,
+    endpoint: &str,
+    start: f64,
+) -> anyhow::Result<Vec<Managed>> {
     let mut agents = Vec::new();
     for (i, spec) in scenario.sensors.iter().enumerate() {
-        let mut cmd = Command::new(&agent_bin);
-        cmd.args(["sim", "--mode", "peer", "--connect", &endpoint])
+        let mut cmd = Command::new(agent_bin);
+        cmd.args(["sim", "--mode", "peer", "--connect", endpoint])
             .args(["--sensor", spec.sensor.as_str()])
             .args(["--seed", &args.seed.to_string()])
             .args(["--start", &format!("{start:.6}")])
@@ -131,17 +170,17 @@ async fn main() -> anyhow::Result<()> {
             Some(&log),
         )?);
     }
+    Ok(agents)
+}
 
-    let watcher = ZenohConfig {
-        connect: vec![endpoint.clone()],
-        ..ZenohConfig::default()
-    };
-    let session = watcher.open().await?;
-    let observer = Observer::start(&session, &site).await?;
-    let mut view = (!args.no_view)
-        .then(|| start_view(&endpoint, args.view, &args.logs))
-        .flatten();
-
+/// Prints the latest track set once a second until the run is over (its duration and 2.5 s for
+/// the last sets to arrive); fails as soon as the server has exited.
+async fn print_live_tracks(
+    observer: &Observer,
+    server: &mut Managed,
+    args: &Args,
+    start: f64,
+) -> anyhow::Result<()> {
     let began = Instant::now();
     let total = Duration::from_secs_f64(args.duration + 2.5);
     while began.elapsed() < total {
@@ -151,41 +190,41 @@ async fn main() -> anyhow::Result<()> {
             "the fusion server exited; see {}",
             args.logs.display()
         );
-        let Some(tracks) = observer.latest_tracks() else {
-            println!(
+        match observer.latest_tracks() {
+            Some(tracks) => println!("{}", describe_tracks(&tracks, start)),
+            None => println!(
                 "t = {:5.1} s  waiting for tracks …",
                 began.elapsed().as_secs_f64()
-            );
-            continue;
-        };
-        let listed: Vec<String> = tracks
-            .tracks
-            .iter()
-            .map(|t| {
-                format!(
-                    "#{} ({:.2}, {:.2}, {:.2})",
-                    t.id, t.position[0], t.position[1], t.position[2]
-                )
-            })
-            .collect();
-        println!(
-            "t = {:5.1} s  {} tracks (expected {:.2}): {}",
-            (tracks.stamp - start).max(0.0),
-            tracks.tracks.len(),
-            tracks.expected_count,
-            listed.join("  ")
-        );
+            ),
+        }
     }
+    Ok(())
+}
 
-    let status = query_status(&session, &site, WireFormat::Json).await;
-    let observed = observer.snapshot();
-    for agent in agents.iter_mut().chain(view.as_mut()) {
-        agent.stop(Duration::from_secs(3));
-    }
-    server.stop(Duration::from_secs(5));
+/// One line for a track set: its time since `start`, its count and each track's position.
+fn describe_tracks(tracks: &protocol::TrackSet, start: f64) -> String {
+    let listed: Vec<String> = tracks
+        .tracks
+        .iter()
+        .map(|t| {
+            format!(
+                "#{} ({:.2}, {:.2}, {:.2})",
+                t.id, t.position[0], t.position[1], t.position[2]
+            )
+        })
+        .collect();
+    format!(
+        "t = {:5.1} s  {} tracks (expected {:.2}): {}",
+        (tracks.stamp - start).max(0.0),
+        tracks.tracks.len(),
+        tracks.expected_count,
+        listed.join("  ")
+    )
+}
 
-    println!();
-    print_status(status);
+/// Prints the mean OSPA over the whole run and once everyone is in, and draws the plot at
+/// `plot_path`.
+fn report_accuracy(observed: &Observed, plot_path: &Path) -> anyhow::Result<()> {
     let scores = observed.scores();
     let truth = observed.truth_sets();
     let max_count = truth.iter().map(|t| t.objects.len()).max().unwrap_or(0);
@@ -204,6 +243,7 @@ async fn main() -> anyhow::Result<()> {
         }
         None => println!("no track set could be scored against the truth"),
     }
+    // Tracks need about 2 s to be confirmed after the last person enters.
     if let Some((ospa, n)) = all_in.and_then(|t| mean_ospa(&scores, t + 2.0)) {
         println!("mean OSPA once all {max_count} people are in view (+2 s): {ospa:.3} m ({n} track sets)");
     }
@@ -213,9 +253,9 @@ async fn main() -> anyhow::Result<()> {
             truth: &truth,
             scores: &scores,
         },
-        &args.plot,
+        plot_path,
     )?;
-    println!("plot: {}", args.plot.display());
+    println!("plot: {}", plot_path.display());
     Ok(())
 }
 

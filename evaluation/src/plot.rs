@@ -1,15 +1,19 @@
-//! `replay --plot FILE.svg`: the tracks over the truth (top view, and height over time) with the
-//! OSPA curve beneath.
+//! Tracks over the truth as an SVG file: a top view, the height over time, and the OSPA curve
+//! beneath (`fusion-server replay --plot`, `fusion-demo`).
 
-use std::collections::BTreeMap;
+mod paths;
+
 use std::path::Path;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use protocol::{TrackSet, TruthSet};
 
-use crate::replay::Score;
+use crate::score::Score;
+use paths::{Paths, TimeSpan};
 
+/// Track colours, one per id modulo their number (matplotlib's "tab10" without its grey and olive).
 const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -21,11 +25,17 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
+/// The truth is drawn in grey so that the coloured tracks stand out over it.
+const TRUTH_GREY: RGBColor = RGBColor(160, 160, 160);
+
 fn colour(id: u64) -> RGBColor {
     PALETTE[(id % PALETTE.len() as u64) as usize]
 }
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+/// One panel of the figure.
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
 /// What a plot shows: the track sets, the truth and the scores of the track sets.
 #[derive(Debug, Clone, Copy)]
@@ -43,51 +53,23 @@ pub fn plot(data: PlotData<'_>, path: &Path) -> anyhow::Result<()> {
     draw(data, path).map_err(|e| anyhow::anyhow!("plotting to {}: {e}", path.display()))
 }
 
-fn draw(report: PlotData<'_>, path: &Path) -> PlotResult {
+fn draw(data: PlotData<'_>, path: &Path) -> PlotResult {
     let root = SVGBackend::new(path, (1000, 1100)).into_drawing_area();
     root.fill(&WHITE)?;
     let (top, rest) = root.split_vertically(560);
     let (height, ospa_area) = rest.split_vertically(300);
+    let paths = Paths::new(data.tracks, data.truth);
+    let span = paths.time_span();
+    draw_top_view(&top, &paths)?;
+    draw_height(&height, &paths, span)?;
+    draw_ospa(&ospa_area, data.scores, span)?;
+    root.present()?;
+    Ok(())
+}
 
-    // Per-object paths of the truth and per-id paths of the tracks: (t, x, y, z).
-    let mut truth_paths: BTreeMap<u64, Vec<(f64, [f64; 3])>> = BTreeMap::new();
-    for set in report.truth {
-        for object in &set.objects {
-            truth_paths
-                .entry(object.id)
-                .or_default()
-                .push((set.stamp, object.position));
-        }
-    }
-    let mut track_paths: BTreeMap<u64, Vec<(f64, [f64; 3])>> = BTreeMap::new();
-    for set in report.tracks {
-        for track in &set.tracks {
-            track_paths
-                .entry(track.id)
-                .or_default()
-                .push((set.stamp, track.position));
-        }
-    }
-    let all = || truth_paths.values().chain(track_paths.values()).flatten();
-    let range = |axis: usize| {
-        let (lo, hi) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, p)| {
-            (lo.min(p[axis]), hi.max(p[axis]))
-        });
-        if lo.is_finite() {
-            (lo - 0.2)..(hi + 0.2)
-        } else {
-            0.0..1.0
-        }
-    };
-    let t0 = all().map(|(t, _)| *t).fold(f64::INFINITY, f64::min);
-    let t1 = all().map(|(t, _)| *t).fold(f64::NEG_INFINITY, f64::max);
-    let (t0, t1) = if t0.is_finite() && t1 > t0 {
-        (t0, t1)
-    } else {
-        (0.0, 1.0)
-    };
-
-    let mut chart = ChartBuilder::on(&top)
+/// x against y: the truth as grey lines, each track as dots of its colour, with a legend.
+fn draw_top_view(area: &Area<'_>, paths: &Paths) -> PlotResult {
+    let mut chart = ChartBuilder::on(area)
         .caption(
             "Top view: truth (grey) and tracks (colour per id)",
             ("sans-serif", 20),
@@ -95,19 +77,19 @@ fn draw(report: PlotData<'_>, path: &Path) -> PlotResult {
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(45)
-        .build_cartesian_2d(range(0), range(1))?;
+        .build_cartesian_2d(paths.range(0), paths.range(1))?;
     chart
         .configure_mesh()
         .x_desc("x (m)")
         .y_desc("y (m)")
         .draw()?;
-    for path in truth_paths.values() {
+    for path in paths.truth.values() {
         chart.draw_series(LineSeries::new(
             path.iter().map(|(_, p)| (p[0], p[1])),
-            &RGBColor(160, 160, 160),
+            &TRUTH_GREY,
         ))?;
     }
-    for (id, path) in &track_paths {
+    for (id, path) in &paths.tracks {
         let style = colour(*id).filled();
         chart
             .draw_series(
@@ -122,53 +104,56 @@ fn draw(report: PlotData<'_>, path: &Path) -> PlotResult {
         .border_style(BLACK)
         .background_style(WHITE.mix(0.8))
         .draw()?;
+    Ok(())
+}
 
-    let mut chart = ChartBuilder::on(&height)
+/// z against time since the first stamp, truth and tracks drawn as in the top view.
+fn draw_height(area: &Area<'_>, paths: &Paths, span: TimeSpan) -> PlotResult {
+    let mut chart = ChartBuilder::on(area)
         .caption("Height over time", ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(45)
-        .build_cartesian_2d((0.0)..(t1 - t0), range(2))?;
+        .build_cartesian_2d(span.axis(), paths.range(2))?;
     chart
         .configure_mesh()
         .x_desc("time (s)")
         .y_desc("z (m)")
         .draw()?;
-    for path in truth_paths.values() {
+    for path in paths.truth.values() {
         chart.draw_series(LineSeries::new(
-            path.iter().map(|(t, p)| (t - t0, p[2])),
-            &RGBColor(160, 160, 160),
+            path.iter().map(|(t, p)| (span.since_start(*t), p[2])),
+            &TRUTH_GREY,
         ))?;
     }
-    for (id, path) in &track_paths {
+    for (id, path) in &paths.tracks {
         let style = colour(*id).filled();
         chart.draw_series(
             path.iter()
-                .map(|(t, p)| Circle::new((t - t0, p[2]), 2, style)),
+                .map(|(t, p)| Circle::new((span.since_start(*t), p[2]), 2, style)),
         )?;
     }
+    Ok(())
+}
 
-    let max_ospa = report
-        .scores
-        .iter()
-        .map(|s| s.ospa)
-        .fold(0.0, f64::max)
-        .max(0.1);
-    let mut chart = ChartBuilder::on(&ospa_area)
+/// The OSPA of each scored track set against time, on the time axis of the height panel.
+fn draw_ospa(area: &Area<'_>, scores: &[Score], span: TimeSpan) -> PlotResult {
+    // At least 0.1 m tall, so that a perfect run still gets a readable axis.
+    let max_ospa = scores.iter().map(|s| s.ospa).fold(0.0, f64::max).max(0.1);
+    let mut chart = ChartBuilder::on(area)
         .caption("OSPA (c = 1 m, p = 1)", ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(45)
-        .build_cartesian_2d((0.0)..(t1 - t0), 0.0..max_ospa * 1.05)?;
+        .build_cartesian_2d(span.axis(), 0.0..max_ospa * 1.05)?;
     chart
         .configure_mesh()
         .x_desc("time (s)")
         .y_desc("OSPA (m)")
         .draw()?;
     chart.draw_series(LineSeries::new(
-        report.scores.iter().map(|s| (s.stamp - t0, s.ospa)),
+        scores.iter().map(|s| (span.since_start(s.stamp), s.ospa)),
         &BLACK,
     ))?;
-    root.present()?;
     Ok(())
 }
