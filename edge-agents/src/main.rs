@@ -5,13 +5,17 @@
 //! as replay lines. See README.md for every subcommand with an example.
 
 mod camera;
+mod camera_input;
 mod camera_tracker;
+mod capture_clock;
 mod cli;
 mod descriptor;
 mod emit;
 mod error;
+mod ffmpeg;
 mod launch;
 mod lidar;
+mod live_detections;
 mod log_limit;
 mod mic;
 mod output;
@@ -21,6 +25,8 @@ mod run;
 mod settings;
 mod shutdown;
 mod sim;
+mod video_input;
+mod video_reader;
 
 use std::process::ExitCode;
 
