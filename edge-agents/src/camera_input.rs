@@ -190,20 +190,22 @@ impl CameraInput {
                 Ok(None)
             }
             CameraInput::Video(video) => video.next_points(),
-            CameraInput::Detections { frames } => Ok(frames.next().map(|(stamp, points)| {
-                HeadPoints {
+            CameraInput::Detections { frames } => {
+                Ok(frames.next().map(|(stamp, points)| HeadPoints {
                     stamp,
                     frame_size: None,
                     points,
-                }
-            })),
-            CameraInput::LiveDetections(live) => Ok(live.next_frame(signalled)?.map(
-                |(stamp, points)| HeadPoints {
-                    stamp,
-                    frame_size: None,
-                    points,
-                },
-            )),
+                }))
+            }
+            CameraInput::LiveDetections(live) => {
+                Ok(live
+                    .next_frame(signalled)?
+                    .map(|(stamp, points)| HeadPoints {
+                        stamp,
+                        frame_size: None,
+                        points,
+                    }))
+            }
         }
     }
 

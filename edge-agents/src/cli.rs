@@ -144,7 +144,12 @@ pub struct CameraCommand {
     pub video: Option<String>,
     /// Extra ffmpeg input options for `--video`, split on spaces and placed before `-i`, e.g.
     /// `-rtsp_transport tcp` or `-f v4l2 -video_size 640x480`.
-    #[arg(long, value_name = "ARGS", requires = "video", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "ARGS",
+        requires = "video",
+        allow_hyphen_values = true
+    )]
     pub ffmpeg_input_args: Option<String>,
     /// MOT Challenge detections (`det.txt`), one head point (top-centre) per box; `-` reads MOT or JSON
     /// lines live from stdin.

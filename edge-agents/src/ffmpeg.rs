@@ -84,12 +84,16 @@ pub fn spawn_decoder(spec: &VideoSpec) -> Result<(Decoder, ChildStdout), AgentEr
         .stderr(Stdio::piped())
         // Its own process group: a Ctrl-C in the terminal reaches the agent, which stops ffmpeg itself.
         .process_group(0);
-    let mut child = command.spawn().map_err(|e| missing_or_failed("ffmpeg", e))?;
+    let mut child = command
+        .spawn()
+        .map_err(|e| missing_or_failed("ffmpeg", e))?;
     let (Some(frames), Some(stderr)) = (child.stdout.take(), child.stderr.take()) else {
         // Both were asked for as pipes above; without them there is nothing to read.
         let _ = child.kill();
         let _ = child.wait();
-        return Err(AgentError::Video("ffmpeg started without its output pipes".into()));
+        return Err(AgentError::Video(
+            "ffmpeg started without its output pipes".into(),
+        ));
     };
     let stderr_tail = Arc::new(Mutex::new(VecDeque::new()));
     drain_stderr(stderr, Arc::clone(&stderr_tail), spec.source.clone());

@@ -195,7 +195,11 @@ impl LiveDetections {
         let problem = format!("line {}: {problem}", self.line_number);
         self.bad.count += 1;
         if let Some(suppressed) = self.bad.log.allow() {
-            tracing::warn!(dropped_lines = self.bad.count, suppressed, "detection line dropped: {problem}");
+            tracing::warn!(
+                dropped_lines = self.bad.count,
+                suppressed,
+                "detection line dropped: {problem}"
+            );
         }
         self.bad.first.get_or_insert(problem);
     }

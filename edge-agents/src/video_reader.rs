@@ -66,11 +66,8 @@ impl VideoReader {
     pub fn start(spec: VideoSpec) -> Result<Self, AgentError> {
         let kind = spec.kind();
         let first = spawn_decoder(&spec)?;
-        let (sender, messages) = crossbeam_channel::bounded(if kind == SourceKind::File {
-            2
-        } else {
-            1
-        });
+        let (sender, messages) =
+            crossbeam_channel::bounded(if kind == SourceKind::File { 2 } else { 1 });
         let shared = Arc::new(Shared {
             stop: AtomicBool::new(false),
             decoder: Mutex::new(None),
@@ -104,9 +101,9 @@ impl VideoReader {
             Ok(message) => Some(message),
             Err(RecvTimeoutError::Timeout) => None,
             // The thread only leaves after sending its end, or when told to stop.
-            Err(RecvTimeoutError::Disconnected) => Some(VideoMessage::End(Ok(
-                "the video reader stopped".into(),
-            ))),
+            Err(RecvTimeoutError::Disconnected) => {
+                Some(VideoMessage::End(Ok("the video reader stopped".into())))
+            }
         }
     }
 
@@ -269,7 +266,9 @@ impl Worker {
                         self.slot.replace(VideoMessage::Frame(frame));
                     }
                 }
-                Err(problem) => return format!("unreadable output after {} frames: {problem}", self.frames),
+                Err(problem) => {
+                    return format!("unreadable output after {} frames: {problem}", self.frames)
+                }
             }
         }
     }
@@ -296,7 +295,10 @@ fn read_ppm(reader: &mut BufReader<impl Read>) -> Result<Option<(RgbImage, Insta
         return Err(format!("a frame of {width}x{height} pixels is too large"));
     }
     if decoder.color_type() != image::ColorType::Rgb8 {
-        return Err(format!("frames are {:?}, not 8-bit RGB", decoder.color_type()));
+        return Err(format!(
+            "frames are {:?}, not 8-bit RGB",
+            decoder.color_type()
+        ));
     }
     let mut pixels = vec![0; decoder.total_bytes() as usize];
     decoder
