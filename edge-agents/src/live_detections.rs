@@ -174,7 +174,7 @@ impl LiveDetections {
             if line.is_empty() {
                 return Ok(());
             }
-            let format = *self.format.get_or_insert(if line.starts_with('{') {
+            let format = *self.format.get_or_insert(if line.starts_with("{") {
                 Format::Json
             } else {
                 Format::Mot
