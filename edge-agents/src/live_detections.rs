@@ -33,6 +33,9 @@ pub const MAX_GAP: usize = 250;
 /// How often a wait for input looks at the shutdown flag.
 const POLL: Duration = Duration::from_millis(100);
 
+/// One frame: its stamp and a head point per box.
+pub type StampedPoints = (f64, Vec<[f64; 2]>);
+
 /// One line as the reader thread delivers it.
 enum Line {
     /// Its text (or why it is not text) and when it arrived.
@@ -69,7 +72,7 @@ pub struct LiveDetections {
     clock: CaptureClock,
     format: Option<Format>,
     pending: Option<Pending>,
-    ready: VecDeque<(f64, Vec<[f64; 2]>)>,
+    ready: VecDeque<StampedPoints>,
     last_stamp: f64,
     line_number: usize,
     frames: u64,
@@ -120,7 +123,7 @@ impl LiveDetections {
     pub fn next_frame(
         &mut self,
         stop: impl Fn() -> bool,
-    ) -> Result<Option<(f64, Vec<[f64; 2]>)>, AgentError> {
+    ) -> Result<Option<StampedPoints>, AgentError> {
         loop {
             if let Some(frame) = self.ready.pop_front() {
                 self.frames += 1;
@@ -151,7 +154,7 @@ impl LiveDetections {
     }
 
     /// Logs what was read; an error when lines came but none made a frame.
-    fn summary(&self) -> Result<Option<(f64, Vec<[f64; 2]>)>, AgentError> {
+    fn summary(&self) -> Result<Option<StampedPoints>, AgentError> {
         tracing::info!(
             frames = self.frames,
             dropped_lines = self.bad.count,
