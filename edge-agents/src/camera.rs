@@ -6,7 +6,7 @@ use std::path::Path;
 use frontends::camera::CameraConfig;
 use protocol::{CameraModel, SensorKind, SensorModel};
 
-use crate::camera_input::{open_input, CameraInput, HeadPoints, OpenedInput};
+use crate::camera_input::{open_input, CameraInput, HeadPoints, InputItem, OpenedInput};
 use crate::camera_tracker::{SingleViewSettings, SingleViewTracker};
 use crate::cli::CameraCommand;
 use crate::descriptor::load_descriptor;
@@ -103,13 +103,16 @@ struct CameraSource {
 
 impl EventSource for CameraSource {
     fn next_event(&mut self) -> Result<Option<Event>, AgentError> {
-        let Some(HeadPoints {
+        let HeadPoints {
             stamp,
             frame_size,
             points,
-        }) = self.input.next_points()?
-        else {
-            return Ok(None);
+        } = match self.input.next_points()? {
+            None => return Ok(None),
+            Some(InputItem::SourceDown(stamp)) => {
+                return Ok(Some(Event::SourceDown { stream: 0, stamp }))
+            }
+            Some(InputItem::Points(points)) => points,
         };
         if let (Some(size), false) = (frame_size, self.size_checked) {
             self.size_checked = true;

@@ -25,6 +25,14 @@ pub struct HeadPoints {
     pub points: Vec<[f64; 2]>,
 }
 
+/// What an input yields next.
+pub enum InputItem {
+    /// A frame's head points.
+    Points(HeadPoints),
+    /// The live source is down (being re-opened), since this stamp.
+    SourceDown(f64),
+}
+
 /// An opened input and the pacing origin (stamp, wall time) of its run.
 pub struct OpenedInput {
     /// The input.
@@ -164,7 +172,16 @@ fn open_detections_file(
 impl CameraInput {
     /// The next frame's head points; `None` at the end. Frames that only train the background yield nothing
     /// and are skipped.
-    pub fn next_points(&mut self) -> Result<Option<HeadPoints>, AgentError> {
+    pub fn next_points(&mut self) -> Result<Option<InputItem>, AgentError> {
+        let points = match self {
+            CameraInput::Video(video) => return video.next_points(),
+            _ => self.next_recorded()?,
+        };
+        Ok(points.map(InputItem::Points))
+    }
+
+    /// The next frame of the inputs that are never down.
+    fn next_recorded(&mut self) -> Result<Option<HeadPoints>, AgentError> {
         match self {
             CameraInput::Frames {
                 frames,
@@ -189,7 +206,7 @@ impl CameraInput {
                 }
                 Ok(None)
             }
-            CameraInput::Video(video) => video.next_points(),
+            CameraInput::Video(_) => Ok(None),
             CameraInput::Detections { frames } => {
                 Ok(frames.next().map(|(stamp, points)| HeadPoints {
                     stamp,

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use frontends::camera::{CameraConfig, CameraPipeline, FrameRate};
 
-use crate::camera_input::{CameraInput, HeadPoints, OpenedInput};
+use crate::camera_input::{CameraInput, HeadPoints, InputItem, OpenedInput};
 use crate::capture_clock::CaptureClock;
 use crate::cli::CameraCommand;
 use crate::error::AgentError;
@@ -41,6 +41,8 @@ pub struct VideoInput {
     pipeline: Box<CameraPipeline>,
     timing: VideoTiming,
     behind: Behind,
+    /// The stamp of the last frame (a source going down is stamped no earlier).
+    last_stamp: f64,
 }
 
 /// What the periodic report on a live source says.
@@ -111,6 +113,7 @@ impl VideoInput {
                 dropped_before: 0,
                 worst_lag: 0.0,
             },
+            last_stamp: f64::NEG_INFINITY,
         };
         Ok(OpenedInput {
             input: CameraInput::Video(Box::new(input)),
@@ -125,7 +128,7 @@ impl VideoInput {
     }
 
     /// The next frame's head points; `None` when the source ended or shutdown was asked for while waiting.
-    pub fn next_points(&mut self) -> Result<Option<HeadPoints>, AgentError> {
+    pub fn next_points(&mut self) -> Result<Option<InputItem>, AgentError> {
         loop {
             let Some(message) = self.reader.next(POLL) else {
                 if signalled() {
@@ -140,6 +143,13 @@ impl VideoInput {
                     return Ok(None);
                 }
                 VideoMessage::End(Err(problem)) => return Err(AgentError::Video(problem)),
+                VideoMessage::Down => {
+                    let now = match self.timing {
+                        VideoTiming::Live(clock) => clock.now(),
+                        VideoTiming::Rate(_) => f64::NEG_INFINITY,
+                    };
+                    return Ok(Some(InputItem::SourceDown(now.max(self.last_stamp))));
+                }
             };
             let stamp = match self.timing {
                 VideoTiming::Rate(rate) => rate.stamp(frame.index as usize),
@@ -151,12 +161,13 @@ impl VideoInput {
                 .pipeline
                 .process_frame(&frame.image, index, stamp, &name)?;
             self.report(stamp);
+            self.last_stamp = stamp;
             if let Some(detections) = detections {
-                return Ok(Some(HeadPoints {
+                return Ok(Some(InputItem::Points(HeadPoints {
                     stamp,
                     frame_size: Some([frame.image.width(), frame.image.height()]),
                     points: detections.points,
-                }));
+                })));
             }
         }
     }

@@ -43,6 +43,8 @@ pub struct VideoFrame {
 pub enum VideoMessage {
     /// A frame.
     Frame(VideoFrame),
+    /// A network source ended or broke and is being opened again.
+    Down,
     /// The source is over: `Ok` with what happened when it delivered frames, `Err` when it never did.
     End(Result<String, String>),
 }
@@ -83,6 +85,7 @@ impl VideoReader {
             },
             shared: Arc::clone(&shared),
             frames: 0,
+            up: true,
         };
         std::thread::Builder::new()
             .name("video-reader".into())
@@ -164,6 +167,8 @@ struct Worker {
     shared: Arc<Shared>,
     /// Frames delivered so far, over every opening of the source.
     frames: u64,
+    /// False from the moment a network source was reported down until its next frame.
+    up: bool,
 }
 
 impl Worker {
@@ -194,6 +199,9 @@ impl Worker {
                 }
                 if self.frames > before {
                     backoff = FIRST_BACKOFF;
+                }
+                if std::mem::replace(&mut self.up, false) {
+                    self.slot.replace(VideoMessage::Down);
                 }
                 tracing::warn!(source = %self.spec.source, frames = self.frames, "video source ended ({ending}); opening it again in {} ms", backoff.as_millis());
             }
@@ -255,6 +263,7 @@ impl Worker {
                         image,
                     };
                     self.frames += 1;
+                    self.up = true;
                     if self.kind == SourceKind::File {
                         if !self
                             .slot
