@@ -356,3 +356,54 @@ fn skip_line(reader: &mut impl BufRead) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frames(text: &'static str) -> Result<Vec<StampedPoints>, AgentError> {
+        let clock = CaptureClock::new(0.0).unwrap();
+        let mut live =
+            LiveDetections::start(std::io::Cursor::new(text), MotDetConfig::default(), clock)?;
+        let mut out = Vec::new();
+        while let Some(frame) = live.next_frame(|| false)? {
+            out.push(frame);
+        }
+        Ok(out)
+    }
+
+    #[test]
+    fn mot_frames_are_grouped_and_skipped_frames_are_empty() {
+        let out = frames("1,-1,10,20,30,60,0.9\n1,-1,100,20,30,60\n\n4,-1,10,20,30,60\n").unwrap();
+        let points: Vec<usize> = out.iter().map(|(_, p)| p.len()).collect();
+        assert_eq!(points, vec![2, 0, 0, 1]);
+        assert_eq!(out[0].1, vec![[25.0, 20.0], [115.0, 20.0]]);
+        assert!(out.windows(2).all(|w| w[1].0 >= w[0].0), "stamps in order");
+    }
+
+    #[test]
+    fn lines_going_back_or_malformed_are_dropped_but_good_ones_kept() {
+        let out =
+            frames("2,-1,10,20,30,60\n1,-1,10,20,30,60\n2,-1,10,20,-3,60\n3,-1,1,2,3,4\n").unwrap();
+        assert_eq!(out.len(), 2, "frames 2 and 3: {out:?}");
+        let out =
+            frames("{\"stamp\": 5, \"boxes\": [[1, 2, 3, 4]]}\n{\"stamp\": 4, \"boxes\": []}\n")
+                .unwrap();
+        assert_eq!(out, vec![(5.0, vec![[2.5, 2.0]])]);
+    }
+
+    #[test]
+    fn a_jump_in_frame_numbers_inserts_no_flood_of_empty_frames() {
+        let out = frames("1,-1,10,20,30,60\n900000,-1,10,20,30,60\n").unwrap();
+        assert_eq!(out.len(), 2);
+    }
+
+    #[test]
+    fn input_without_a_single_frame_is_an_error() {
+        assert!(frames("hello\nworld\n").is_err());
+        assert!(
+            frames("").unwrap().is_empty(),
+            "an empty input is just no frames"
+        );
+    }
+}
