@@ -69,6 +69,11 @@ pub fn prepare_camera(command: &CameraCommand) -> Result<Prepared, AgentError> {
         origin_stamp,
         origin_wall,
     } = open_input(command, &config, start)?;
+    if input.is_live() && command.timing.speed != 1.0 {
+        return Err(AgentError::Usage(
+            "--speed does not apply to a live source: its frames are published as they come".into(),
+        ));
+    }
     let source = CameraSource {
         input,
         tracker,

@@ -11,11 +11,15 @@ use std::io::{BufRead, BufReader};
 use std::os::unix::process::CommandExt;
 use std::process::{Child, ChildStderr, ChildStdout, Command, Stdio};
 use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 use crate::error::AgentError;
+use crate::log_limit::LogLimiter;
 
 /// How many of ffmpeg's last stderr lines are kept to explain a failure.
 const STDERR_TAIL: usize = 4;
+/// At most one of ffmpeg's stderr lines is logged per this interval.
+const STDERR_LOG_INTERVAL: Duration = Duration::from_millis(200);
 
 /// What `--video` names and how ffmpeg is started on it.
 #[derive(Debug, Clone)]
@@ -121,9 +125,13 @@ impl Decoder {
 /// keeps the last lines.
 fn drain_stderr(stderr: ChildStderr, tail: Arc<Mutex<VecDeque<String>>>, source: String) {
     std::thread::spawn(move || {
+        // A damaged stream can make ffmpeg complain about every frame: a few lines a second are enough.
+        let mut limit = LogLimiter::new(STDERR_LOG_INTERVAL);
         for line in BufReader::new(stderr).lines() {
             let Ok(line) = line else { break };
-            tracing::warn!(source = %source, "ffmpeg: {line}");
+            if let Some(suppressed) = limit.allow() {
+                tracing::warn!(source = %source, suppressed, "ffmpeg: {line}");
+            }
             if let Ok(mut tail) = tail.lock() {
                 if tail.len() == STDERR_TAIL {
                     tail.pop_front();
