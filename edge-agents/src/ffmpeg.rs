@@ -18,6 +18,8 @@ use crate::log_limit::LogLimiter;
 
 /// How many of ffmpeg's last stderr lines are kept to explain a failure.
 const STDERR_TAIL: usize = 4;
+/// How long a network source may deliver nothing before ffmpeg gives up on it, in microseconds.
+pub const STALL_TIMEOUT_US: u64 = 5_000_000;
 /// At most one of ffmpeg's stderr lines is logged per this interval.
 const STDERR_LOG_INTERVAL: Duration = Duration::from_millis(200);
 
@@ -59,6 +61,23 @@ impl VideoSpec {
     }
 }
 
+impl VideoSpec {
+    /// For HTTP, TCP and UDP sources, ffmpeg's `-rw_timeout`: a stream that stalls (connected, but no data
+    /// for [`STALL_TIMEOUT_US`]) is then an error, and so re-opened, instead of a wait without end. An RTSP
+    /// source needs `-timeout` (ffmpeg 5 or later) in `--ffmpeg-input-args` for the same.
+    fn stall_timeout(&self) -> Vec<String> {
+        let lower = self.source.to_ascii_lowercase();
+        let covered = ["http://", "https://", "tcp://", "udp://"]
+            .iter()
+            .any(|scheme| lower.starts_with(scheme));
+        if covered {
+            vec!["-rw_timeout".into(), STALL_TIMEOUT_US.to_string()]
+        } else {
+            Vec::new()
+        }
+    }
+}
+
 /// A running ffmpeg decoding one source.
 pub struct Decoder {
     /// The process, to be killed and reaped.
@@ -73,6 +92,7 @@ pub fn spawn_decoder(spec: &VideoSpec) -> Result<(Decoder, ChildStdout), AgentEr
     let mut command = Command::new("ffmpeg");
     command
         .args(["-hide_banner", "-nostdin", "-loglevel", "error"])
+        .args(spec.stall_timeout())
         .args(&spec.input_args)
         .args(["-i", &spec.source])
         .args(["-map", "0:v:0", "-an", "-sn"])

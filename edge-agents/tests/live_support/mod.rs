@@ -144,12 +144,12 @@ pub fn terminate(pid: u32) {
 
 /// The pids of the children of `pid` (every thread's), from /proc.
 pub fn children_of(pid: u32) -> Vec<u32> {
-    let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else {
+    let Ok(threads) = std::fs::read_dir(format!("/proc/{pid}/task")) else {
         return Vec::new();
     };
     let mut children = Vec::new();
-    for task in tasks.flatten() {
-        let text = std::fs::read_to_string(task.path().join("children")).unwrap_or_default();
+    for thread in threads.flatten() {
+        let text = std::fs::read_to_string(thread.path().join("children")).unwrap_or_default();
         children.extend(
             text.split_whitespace()
                 .filter_map(|c| c.parse::<u32>().ok()),
