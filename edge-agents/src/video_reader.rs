@@ -5,7 +5,8 @@
 //! frame is used and the output is deterministic. A live source is never held back: its slot holds one
 //! frame, and a frame that arrives before the last one was taken replaces it and is counted as dropped, so
 //! the processing side always gets the newest frame and ffmpeg's pipe never fills. A network source that
-//! ends or breaks is opened again after a pause growing from 250 ms to 5 s (logged each time).
+//! ends or breaks is reported down (the sensor leaves Zenoh until its next frame) and opened again after a
+//! pause growing from 250 ms to 5 s (logged each time).
 
 use std::io::{BufRead, BufReader, Read};
 use std::process::ChildStdout;
