@@ -27,6 +27,8 @@ const FIRST_BACKOFF: Duration = Duration::from_millis(250);
 const MAX_BACKOFF: Duration = Duration::from_secs(5);
 /// How often a blocked hand-off looks at the stop flag.
 const POLL: Duration = Duration::from_millis(100);
+/// How long dropping the reader waits for its thread to stop.
+const STOP_PATIENCE: Duration = Duration::from_secs(2);
 /// Frames larger than this many pixels are refused (a corrupt header must not allocate gigabytes).
 const MAX_PIXELS: u64 = 8192 * 8192;
 
@@ -55,6 +57,8 @@ pub struct VideoReader {
     messages: Receiver<VideoMessage>,
     dropped: Arc<AtomicU64>,
     shared: Arc<Shared>,
+    /// The reader thread, waited for on drop so that an ffmpeg it was just starting is stopped too.
+    worker: Option<std::thread::JoinHandle<()>>,
 }
 
 /// What the reader thread and its handle share.
@@ -88,7 +92,7 @@ impl VideoReader {
             frames: 0,
             up: true,
         };
-        std::thread::Builder::new()
+        let worker = std::thread::Builder::new()
             .name("video-reader".into())
             .spawn(move || worker.run(first))
             .map_err(|e| AgentError::Video(format!("cannot start the video reader thread: {e}")))?;
@@ -96,6 +100,7 @@ impl VideoReader {
             messages,
             dropped,
             shared,
+            worker: Some(worker),
         })
     }
 
@@ -122,6 +127,16 @@ impl Drop for VideoReader {
         self.shared.stop.store(true, Ordering::Relaxed);
         if let Some(decoder) = self.shared.decoder.lock().ok().and_then(|mut d| d.take()) {
             tracing::debug!("{}", decoder.stop());
+        }
+        // The thread sees the flag within one poll; the deadline only guards against the unforeseen.
+        let deadline = Instant::now() + STOP_PATIENCE;
+        if let Some(worker) = self.worker.take() {
+            while !worker.is_finished() && Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            if worker.is_finished() {
+                let _ = worker.join();
+            }
         }
     }
 }

@@ -170,10 +170,13 @@ fn a_video_file_and_a_live_stream_give_the_head_points_of_its_frames() {
         spacing * 1e3,
         1e3 / f64::from(FPS)
     );
-    assert!(
-        (spacing * f64::from(FPS) - 1.0).abs() < 0.5,
-        "stamps do not follow the wall clock"
-    );
+    if none_dropped {
+        // Dropped frames would widen the spacing; without them it is the frame period.
+        assert!(
+            (spacing * f64::from(FPS) - 1.0).abs() < 0.5,
+            "stamps do not follow the wall clock"
+        );
+    }
     let lags: Vec<f64> = live
         .lines
         .iter()
