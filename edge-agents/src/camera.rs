@@ -1,13 +1,12 @@
-//! `edge-agent camera`: frames (background subtraction → blobs → head points) or MOT detections, then the
-//! single-view tracker, one measurement set per frame.
+//! `edge-agent camera`: frames or a video (background subtraction → blobs → head points) or detections
+//! (`camera_input.rs`), then the single-view tracker, one measurement set per frame.
 
 use std::path::Path;
 
-use frontends::camera::{
-    read_mot_detections, CameraConfig, CameraPipeline, FrameDirectory, FrameRate, FrameTiming,
-};
+use frontends::camera::CameraConfig;
 use protocol::{CameraModel, SensorKind, SensorModel};
 
+use crate::camera_input::{open_input, CameraInput, HeadPoints, InputItem, OpenedInput};
 use crate::camera_tracker::{SingleViewSettings, SingleViewTracker};
 use crate::cli::CameraCommand;
 use crate::descriptor::load_descriptor;
@@ -22,10 +21,13 @@ use crate::sim::prepare_simulated_sensor;
 /// Prepares `edge-agent camera`.
 pub fn prepare_camera(command: &CameraCommand) -> Result<Prepared, AgentError> {
     if command.simulate.simulate {
-        if command.frames.is_some() || command.detections.is_some() || command.descriptor.is_some()
+        if command.frames.is_some()
+            || command.video.is_some()
+            || command.detections.is_some()
+            || command.descriptor.is_some()
         {
             return Err(AgentError::Usage(
-                "--simulate takes the camera from --scenario: do not give --frames, --detections or --descriptor".into(),
+                "--simulate takes the camera from --scenario: do not give --frames, --video, --detections or --descriptor".into(),
             ));
         }
         return prepare_simulated_sensor(
@@ -62,7 +64,16 @@ pub fn prepare_camera(command: &CameraCommand) -> Result<Prepared, AgentError> {
         )?)
     };
     let start = command.timing.start.unwrap_or_else(wall_clock);
-    let (input, origin_stamp, origin_wall) = open_input(command, &config, start)?;
+    let OpenedInput {
+        input,
+        origin_stamp,
+        origin_wall,
+    } = open_input(command, &config, start)?;
+    if input.is_live() && command.timing.speed != 1.0 {
+        return Err(AgentError::Usage(
+            "--speed does not apply to a live source: its frames are published as they come".into(),
+        ));
+    }
     let source = CameraSource {
         input,
         tracker,
@@ -87,136 +98,6 @@ fn frontend_config(path: Option<&Path>) -> Result<CameraConfig, AgentError> {
     Ok(config)
 }
 
-/// Where the head points come from, and the pacing origin (stamp, wall time) of the run.
-fn open_input(
-    command: &CameraCommand,
-    config: &CameraConfig,
-    start: f64,
-) -> Result<(CameraInput, f64, f64), AgentError> {
-    match (&command.frames, &command.detections) {
-        (Some(dir), None) => {
-            let (timing, shift) = match (&command.stamps, command.fps) {
-                (Some(stamps), None) => (FrameTiming::StampsFile(stamps.clone()), true),
-                (None, Some(fps)) => (FrameTiming::Rate(FrameRate { start, fps }), false),
-                _ => {
-                    return Err(AgentError::Usage(
-                        "--frames needs exactly one of --fps or --stamps".into(),
-                    ))
-                }
-            };
-            let frames = FrameDirectory::open(dir, &timing)?;
-            let first = frames.stamps()[0];
-            // Recorded stamps keep their values unless --start moves the first one there; either way they are
-            // replayed at their own spacing from launch.
-            let offset = match (shift, command.timing.start) {
-                (true, Some(start)) => start - first,
-                _ => 0.0,
-            };
-            let origin_wall = if shift && command.timing.start.is_none() {
-                wall_clock()
-            } else {
-                first + offset
-            };
-            let pipeline = Box::new(CameraPipeline::new(config.clone())?);
-            let input = CameraInput::Frames {
-                frames,
-                pipeline,
-                next: 0,
-                offset,
-            };
-            Ok((input, first + offset, origin_wall))
-        }
-        (None, Some(path)) => {
-            let fps = command
-                .fps
-                .ok_or_else(|| AgentError::Usage("--detections needs --fps".into()))?;
-            if command.stamps.is_some() {
-                return Err(AgentError::Usage(
-                    "--stamps goes with --frames; use --fps with --detections".into(),
-                ));
-            }
-            let frames = read_mot_detections(path, &config.mot_det, &FrameRate { start, fps })?;
-            let input = CameraInput::Detections {
-                frames: frames
-                    .into_iter()
-                    .map(|f| (f.stamp, f.points))
-                    .collect::<Vec<_>>()
-                    .into_iter(),
-            };
-            Ok((input, start, start))
-        }
-        _ => Err(AgentError::Usage(
-            "camera needs one input: --frames DIR, --detections det.txt or --simulate".into(),
-        )),
-    }
-}
-
-/// One frame's head points.
-struct HeadPoints {
-    /// Capture time of the frame.
-    stamp: f64,
-    /// Width and height of a decoded image (none for detections).
-    frame_size: Option<[u32; 2]>,
-    /// `[u, v]` per detected head, pixels.
-    points: Vec<[f64; 2]>,
-}
-
-/// The camera's frames of head points, decoded one at a time.
-enum CameraInput {
-    /// Image frames through background subtraction.
-    Frames {
-        frames: FrameDirectory,
-        /// Boxed: it holds the background model's buffers, much larger than the other variant.
-        pipeline: Box<CameraPipeline>,
-        next: usize,
-        /// Added to every stamp (see `--stamps` with `--start`).
-        offset: f64,
-    },
-    /// Precomputed detections, already grouped by frame.
-    Detections {
-        frames: std::vec::IntoIter<(f64, Vec<[f64; 2]>)>,
-    },
-}
-
-impl CameraInput {
-    /// The next frame's head points; `None` at the end. Frames that only train the background yield nothing
-    /// and are skipped.
-    fn next_points(&mut self) -> Result<Option<HeadPoints>, AgentError> {
-        match self {
-            CameraInput::Frames {
-                frames,
-                pipeline,
-                next,
-                offset,
-            } => {
-                while *next < frames.len() {
-                    let frame = frames.load(*next)?;
-                    *next += 1;
-                    let name = frame.path.display().to_string();
-                    let stamp = frame.stamp + *offset;
-                    if let Some(detections) =
-                        pipeline.process_frame(&frame.image, frame.index, stamp, &name)?
-                    {
-                        return Ok(Some(HeadPoints {
-                            stamp,
-                            frame_size: Some([frame.image.width(), frame.image.height()]),
-                            points: detections.points,
-                        }));
-                    }
-                }
-                Ok(None)
-            }
-            CameraInput::Detections { frames } => {
-                Ok(frames.next().map(|(stamp, points)| HeadPoints {
-                    stamp,
-                    frame_size: None,
-                    points,
-                }))
-            }
-        }
-    }
-}
-
 /// Head points through the single-view tracker (or raw), as sets of the one camera.
 struct CameraSource {
     input: CameraInput,
@@ -227,13 +108,16 @@ struct CameraSource {
 
 impl EventSource for CameraSource {
     fn next_event(&mut self) -> Result<Option<Event>, AgentError> {
-        let Some(HeadPoints {
+        let HeadPoints {
             stamp,
             frame_size,
             points,
-        }) = self.input.next_points()?
-        else {
-            return Ok(None);
+        } = match self.input.next_points()? {
+            None => return Ok(None),
+            Some(InputItem::SourceDown(stamp)) => {
+                return Ok(Some(Event::SourceDown { stream: 0, stamp }))
+            }
+            Some(InputItem::Points(points)) => points,
         };
         if let (Some(size), false) = (frame_size, self.size_checked) {
             self.size_checked = true;
@@ -261,5 +145,9 @@ impl EventSource for CameraSource {
             },
         };
         Ok(Some(Event::Set { stream: 0, frame }))
+    }
+
+    fn is_live(&self) -> bool {
+        self.input.is_live()
     }
 }

@@ -136,14 +136,32 @@ pub struct CameraCommand {
     #[arg(long, value_name = "FILE")]
     pub descriptor: Option<PathBuf>,
     /// Directory of PNG/JPEG frames (sorted by name) run through background subtraction and blobs.
-    #[arg(long, value_name = "DIR", conflicts_with = "detections")]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["detections", "video"])]
     pub frames: Option<PathBuf>,
-    /// MOT Challenge detections (`det.txt`), one head point (top-centre) per box.
-    #[arg(long, value_name = "FILE")]
+    /// A video source decoded by the `ffmpeg` executable: a file, an `rtsp://`/`http://` URL, `/dev/videoN`,
+    /// or `-` for a stream on stdin; its frames go through background subtraction like `--frames`.
+    #[arg(long, value_name = "SRC", conflicts_with = "detections")]
+    pub video: Option<String>,
+    /// Extra ffmpeg input options for `--video`, split on spaces and placed before `-i`, e.g.
+    /// `-rtsp_transport tcp` or `-f v4l2 -video_size 640x480`.
+    #[arg(
+        long,
+        value_name = "ARGS",
+        requires = "video",
+        allow_hyphen_values = true
+    )]
+    pub ffmpeg_input_args: Option<String>,
+    /// MOT Challenge detections (`det.txt`), one head point (top-centre) per box; `-` reads MOT or JSON
+    /// lines live from stdin.
+    #[arg(long, value_name = "FILE|-")]
     pub detections: Option<PathBuf>,
-    /// Frame rate; frame i is stamped `start + i / fps`.
+    /// Frame rate; frame i is stamped `start + i / fps` (for `--video FILE`: default the stream's rate).
     #[arg(long, value_name = "F", conflicts_with = "stamps")]
     pub fps: Option<f64>,
+    /// Live sources (`--video -`, a device or a URL, `--detections -`): subtracted from the arrival time
+    /// on the host clock to give the capture stamp (the camera's, encoder's and network's delay).
+    #[arg(long, value_name = "MS", default_value_t = crate::capture_clock::DEFAULT_PIPELINE_DELAY_MS)]
+    pub pipeline_delay_ms: f64,
     /// Stamps file (one per frame, for `--frames`): stamps as they are, or shifted so the first is `--start`.
     #[arg(long, value_name = "FILE")]
     pub stamps: Option<PathBuf>,

@@ -153,6 +153,10 @@ impl Emitter {
             }
             return Ok(());
         }
+        if let (None, Some(publishing)) = (&entry.publisher, &self.publishing) {
+            // Withdrawn while its source was down: back with this set.
+            entry.publisher = Some(publishing.sensor(&entry.descriptor).await?);
+        }
         if let Some(publisher) = &mut entry.publisher {
             publisher.put_set(&set).await;
         }
@@ -161,6 +165,17 @@ impl Emitter {
             replay.write(&ReplayLine::Measurements(set))?;
         }
         Ok(())
+    }
+
+    /// Withdraws sensor `stream` from Zenoh while its source is down: its publisher, queryable and liveliness
+    /// token are undeclared, so the server sees it leave; its next set declares them again.
+    pub fn withdraw(&mut self, stream: usize) {
+        let Some(entry) = self.streams.get_mut(stream) else {
+            return;
+        };
+        if entry.publisher.take().is_some() {
+            tracing::info!(sensor = %entry.descriptor.sensor, "source down: sensor withdrawn until it is back");
+        }
     }
 
     /// Emits one truth set (published on `fusion/<site>/truth` and/or written as a `truth` line).

@@ -94,6 +94,9 @@ pub enum AgentError {
     /// The async runtime could not be started.
     #[error("starting the async runtime: {0}")]
     Runtime(std::io::Error),
+    /// A `--video` source could not be decoded (ffmpeg missing, the source unreadable).
+    #[error("video: {0}")]
+    Video(String),
     /// A directory or file of input data could not be listed or read.
     #[error("reading {path}: {source}")]
     Input {

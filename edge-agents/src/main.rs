@@ -5,13 +5,17 @@
 //! as replay lines. See README.md for every subcommand with an example.
 
 mod camera;
+mod camera_input;
 mod camera_tracker;
+mod capture_clock;
 mod cli;
 mod descriptor;
 mod emit;
 mod error;
+mod ffmpeg;
 mod launch;
 mod lidar;
+mod live_detections;
 mod mic;
 mod output;
 mod pacing;
@@ -19,6 +23,8 @@ mod publish;
 mod run;
 mod settings;
 mod sim;
+mod video_input;
+mod video_reader;
 
 use std::process::ExitCode;
 

@@ -19,6 +19,14 @@ pub enum Event {
     },
     /// A truth set (simulations only).
     Truth(TruthSet),
+    /// The live source of sensor `stream` is down (a network camera being re-opened): the sensor is
+    /// withdrawn from Zenoh (its liveliness token undeclared) until its next set declares it again.
+    SourceDown {
+        /// Index of the sensor in [`RunPlan::descriptors`].
+        stream: usize,
+        /// When the source went down.
+        stamp: f64,
+    },
 }
 
 impl Event {
@@ -27,6 +35,7 @@ impl Event {
         match self {
             Event::Set { frame, .. } => frame.stamp,
             Event::Truth(truth) => truth.stamp,
+            Event::SourceDown { stamp, .. } => *stamp,
         }
     }
 }
@@ -36,6 +45,12 @@ pub trait EventSource {
     /// The next event, `None` at the end of the data. May take a while (decoding a frame, a filter update):
     /// the run loop calls it outside the async executor's reach.
     fn next_event(&mut self) -> Result<Option<Event>, AgentError>;
+
+    /// True when events come as the sensor captures them (stamped on arrival), not from recorded data:
+    /// replay lines are then flushed one by one, as when publishing.
+    fn is_live(&self) -> bool {
+        false
+    }
 }
 
 /// Everything a run needs besides its source.
@@ -103,6 +118,7 @@ async fn pump(
         match event {
             Event::Set { stream, frame } => emitter.emit_set(stream, frame).await?,
             Event::Truth(truth) => emitter.emit_truth(truth).await?,
+            Event::SourceDown { stream, .. } => emitter.withdraw(stream),
         }
     }
 }

@@ -1,7 +1,18 @@
 //! Graceful shutdown on Ctrl-C or SIGTERM (what `docker stop` and systemd send), for the server
 //! and the agents alike.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use tokio::sync::watch;
+
+/// Set once a signal has arrived, for code that waits outside the async runtime (a thread blocked on a live
+/// source) and cannot await [`Shutdown::requested`].
+static SIGNALLED: AtomicBool = AtomicBool::new(false);
+
+/// True once Ctrl-C or SIGTERM has arrived (see [`Shutdown::listen`]).
+pub fn signalled() -> bool {
+    SIGNALLED.load(Ordering::Relaxed)
+}
 
 /// A handle on the process-wide "please stop" flag; cheap to clone.
 #[derive(Debug, Clone)]
@@ -16,6 +27,7 @@ impl Shutdown {
         tokio::spawn(async move {
             wait_for_signal().await;
             tracing::info!("shutdown requested");
+            SIGNALLED.store(true, Ordering::Relaxed);
             // Nobody listening any more just means the run already ended.
             let _ = sender.send(true);
         });
