@@ -179,9 +179,14 @@ pub struct MicPairCommand {
     /// The pair's SensorDescriptor (TOML or JSON; `model.kind = "mic_pair"`).
     #[arg(long, value_name = "FILE")]
     pub descriptor: Option<PathBuf>,
-    /// Stereo WAV file: channel 1 is microphone 1 of the descriptor, channel 2 microphone 2.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["left", "right"])]
+    /// Stereo WAV file, or `-` for a live WAV stream on stdin (`arecord -t wav`, `sox ... -t wav -`): channel 1
+    /// is microphone 1 of the descriptor, channel 2 microphone 2.
+    #[arg(long, value_name = "FILE|-", conflicts_with_all = ["left", "right"])]
     pub wav: Option<PathBuf>,
+    /// Live input (`--wav -`): subtracted from the host time at which a frame's audio arrived to give its
+    /// capture stamp (the sound card's buffer and the pipe in front of the agent).
+    #[arg(long, value_name = "MS", default_value_t = crate::capture_clock::DEFAULT_PIPELINE_DELAY_MS)]
+    pub pipeline_delay_ms: f64,
     /// Mono WAV of microphone 1 (with `--right`).
     #[arg(long, value_name = "A.wav", requires = "right")]
     pub left: Option<PathBuf>,

@@ -55,8 +55,11 @@ pub async fn launch(
     check_speed(speed)?;
     let publishing = common.output.is_none() || common.publish;
     let replay = match &common.output {
-        // Live runs flush each line so a reader sees a set as soon as it is published.
-        Some(path) => Some(ReplayWriter::create(path, publishing)?),
+        // Live runs flush each line so a reader sees a set as soon as it is published (or captured).
+        Some(path) => Some(ReplayWriter::create(
+            path,
+            publishing || prepared.source.is_live(),
+        )?),
         None => None,
     };
     let format = if common.json {

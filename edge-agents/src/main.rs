@@ -6,6 +6,7 @@
 
 mod camera;
 mod camera_tracker;
+mod capture_clock;
 mod cli;
 mod descriptor;
 mod emit;
@@ -13,6 +14,7 @@ mod error;
 mod launch;
 mod lidar;
 mod mic;
+mod mic_stream;
 mod output;
 mod pacing;
 mod publish;

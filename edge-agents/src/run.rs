@@ -36,6 +36,12 @@ pub trait EventSource {
     /// The next event, `None` at the end of the data. May take a while (decoding a frame, a filter update):
     /// the run loop calls it outside the async executor's reach.
     fn next_event(&mut self) -> Result<Option<Event>, AgentError>;
+
+    /// True when events come as the sensor captures them (stamped on arrival), not from recorded data:
+    /// replay lines are then flushed one by one, as when publishing.
+    fn is_live(&self) -> bool {
+        false
+    }
 }
 
 /// Everything a run needs besides its source.
