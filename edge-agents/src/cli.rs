@@ -215,8 +215,24 @@ pub struct LidarCommand {
     #[arg(long, value_name = "FILE")]
     pub descriptor: Option<PathBuf>,
     /// Directory of `.pcd` or KITTI `.bin` scans, taken in file-name order.
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", conflicts_with = "velodyne")]
     pub scans: Option<PathBuf>,
+    /// With `--scans`: keep watching the directory and take each new scan once it is complete (its size and
+    /// modification time unchanged over two polls 100 ms apart), stamped when taken.
+    #[arg(long, requires = "scans")]
+    pub follow: bool,
+    /// Receive VLP-16 / VLP-32C data packets on this UDP address (`ADDR` or `ADDR:PORT`, default port 2368);
+    /// one scan per rotation, stamped at the host time of its first packet.
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub velodyne: Option<String>,
+    /// With `--velodyne`: end (withdrawing the sensor) after this many seconds without a packet, once packets
+    /// have come; 0 waits for ever.
+    #[arg(long, value_name = "S", default_value_t = 5.0)]
+    pub idle_timeout_s: f64,
+    /// Live input (`--velodyne`, `--follow`): subtracted from the host time at which a scan's first packet (or
+    /// its file) arrived to give its capture stamp.
+    #[arg(long, value_name = "MS", default_value_t = crate::capture_clock::DEFAULT_PIPELINE_DELAY_MS)]
+    pub pipeline_delay_ms: f64,
     /// Scans per second; scan i is stamped `start + i / rate`.
     #[arg(long, value_name = "HZ")]
     pub rate: Option<f64>,

@@ -13,14 +13,17 @@ mod emit;
 mod error;
 mod launch;
 mod lidar;
+mod lidar_live;
 mod mic;
 mod mic_stream;
 mod output;
 mod pacing;
 mod publish;
 mod run;
+mod scan_follow;
 mod settings;
 mod sim;
+mod velodyne_input;
 
 use std::process::ExitCode;
 
