@@ -57,20 +57,7 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
         .as_deref()
         .is_some_and(|wav| wav.as_os_str() == "-")
     {
-        if command.timing.start.is_some() {
-            return Err(AgentError::Usage(
-                "--wav - is stamped on arrival (host clock less --pipeline-delay-ms): do not give --start"
-                    .into(),
-            ));
-        }
-        let source = LiveMic::start(std::io::stdin(), config, command.pipeline_delay_ms)?;
-        let origin = source.origin_wall();
-        return Ok(Prepared::single_sensor(
-            Box::new(source),
-            descriptor,
-            origin,
-            origin,
-        ));
+        return prepare_live(command, config, descriptor);
     }
     let audio =
         match (&command.wav, &command.left, &command.right) {
@@ -106,6 +93,28 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
         descriptor,
         start,
         start,
+    ))
+}
+
+/// `--wav -`: the stream on stdin, stamped on arrival.
+fn prepare_live(
+    command: &MicPairCommand,
+    config: MicPairConfig,
+    descriptor: protocol::SensorDescriptor,
+) -> Result<Prepared, AgentError> {
+    if command.timing.start.is_some() {
+        return Err(AgentError::Usage(
+            "--wav - is stamped on arrival (host clock less --pipeline-delay-ms): do not give --start"
+                .into(),
+        ));
+    }
+    let source = LiveMic::start(std::io::stdin(), config, command.pipeline_delay_ms)?;
+    let origin = source.origin_wall();
+    Ok(Prepared::single_sensor(
+        Box::new(source),
+        descriptor,
+        origin,
+        origin,
     ))
 }
 
