@@ -11,7 +11,7 @@
 
 use std::io::Read;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{sync_channel, Receiver, SyncSender, TrySendError};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TrySendError};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -21,12 +21,14 @@ use crate::capture_clock::CaptureClock;
 use crate::emit::Frame;
 use crate::error::AgentError;
 use crate::run::{Event, EventSource};
-use transport::LogLimiter;
+use transport::{LogLimiter, Shutdown};
 
 /// Frames waiting for analysis before the reader drops new ones (at the default 256 ms, 4 s of audio).
 const QUEUE_FRAMES: usize = 16;
 /// At most one report of dropped frames per this interval.
 const REPORT_INTERVAL: Duration = Duration::from_secs(5);
+/// How long one wait for a frame lasts before the shutdown flag is looked at again.
+const POLL: Duration = Duration::from_millis(100);
 
 /// What the reader thread hands over.
 enum Captured {
@@ -54,6 +56,7 @@ pub struct LiveMic {
     reported_drops: u64,
     analysed: u64,
     report: LogLimiter,
+    shutdown: Option<Shutdown>,
 }
 
 impl LiveMic {
@@ -99,6 +102,7 @@ impl LiveMic {
             reported_drops: 0,
             analysed: 0,
             report: LogLimiter::new(REPORT_INTERVAL),
+            shutdown: None,
         })
     }
 
@@ -124,11 +128,22 @@ impl LiveMic {
 
 impl EventSource for LiveMic {
     fn next_event(&mut self) -> Result<Option<Event>, AgentError> {
-        // A closed queue without an `End` means the reader thread died: treat it as the stream's end.
-        let message = self.frames.recv().unwrap_or(Captured::End {
-            partial: 0,
-            leftover_bytes: 0,
-        });
+        let message = loop {
+            if self.shutdown.as_ref().is_some_and(Shutdown::is_requested) {
+                return Ok(None);
+            }
+            match self.frames.recv_timeout(POLL) {
+                Ok(message) => break message,
+                Err(RecvTimeoutError::Timeout) => continue,
+                // A closed queue without an `End` means the reader thread died: the stream's end.
+                Err(RecvTimeoutError::Disconnected) => {
+                    break Captured::End {
+                        partial: 0,
+                        leftover_bytes: 0,
+                    }
+                }
+            }
+        };
         match message {
             Captured::Frame { stamp, mic1, mic2 } => {
                 let peaks = self.pipeline.frame_peaks(&mic1, &mic2)?;
@@ -163,6 +178,10 @@ impl EventSource for LiveMic {
 
     fn is_live(&self) -> bool {
         true
+    }
+
+    fn attach_shutdown(&mut self, shutdown: &Shutdown) {
+        self.shutdown = Some(shutdown.clone());
     }
 }
 
