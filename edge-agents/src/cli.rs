@@ -197,9 +197,14 @@ pub struct MicPairCommand {
     /// The pair's SensorDescriptor (TOML or JSON; `model.kind = "mic_pair"`).
     #[arg(long, value_name = "FILE")]
     pub descriptor: Option<PathBuf>,
-    /// Stereo WAV file: channel 1 is microphone 1 of the descriptor, channel 2 microphone 2.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["left", "right"])]
+    /// Stereo WAV file, or `-` for a live WAV stream on stdin (`arecord -t wav`, `sox ... -t wav -`): channel 1
+    /// is microphone 1 of the descriptor, channel 2 microphone 2.
+    #[arg(long, value_name = "FILE|-", conflicts_with_all = ["left", "right"])]
     pub wav: Option<PathBuf>,
+    /// Live input (`--wav -`): subtracted from the host time at which a frame's audio arrived to give its
+    /// capture stamp (the sound card's buffer and the pipe in front of the agent).
+    #[arg(long, value_name = "MS", default_value_t = crate::capture_clock::DEFAULT_PIPELINE_DELAY_MS)]
+    pub pipeline_delay_ms: f64,
     /// Mono WAV of microphone 1 (with `--right`).
     #[arg(long, value_name = "A.wav", requires = "right")]
     pub left: Option<PathBuf>,
@@ -228,8 +233,24 @@ pub struct LidarCommand {
     #[arg(long, value_name = "FILE")]
     pub descriptor: Option<PathBuf>,
     /// Directory of `.pcd` or KITTI `.bin` scans, taken in file-name order.
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", conflicts_with = "velodyne")]
     pub scans: Option<PathBuf>,
+    /// With `--scans`: keep watching the directory and take each new scan once it is complete (its size and
+    /// modification time unchanged over two polls 100 ms apart), stamped when taken.
+    #[arg(long, requires = "scans")]
+    pub follow: bool,
+    /// Receive VLP-16 / VLP-32C data packets on this UDP address (`ADDR` or `ADDR:PORT`, default port 2368);
+    /// one scan per rotation, stamped at the host time of its first packet.
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub velodyne: Option<String>,
+    /// With `--velodyne`: end (withdrawing the sensor) after this many seconds without a packet, once packets
+    /// have come; 0 waits for ever.
+    #[arg(long, value_name = "S", default_value_t = 5.0)]
+    pub idle_timeout_s: f64,
+    /// Live input (`--velodyne`, `--follow`): subtracted from the host time at which a scan's first packet (or
+    /// its file) arrived to give its capture stamp.
+    #[arg(long, value_name = "MS", default_value_t = crate::capture_clock::DEFAULT_PIPELINE_DELAY_MS)]
+    pub pipeline_delay_ms: f64,
     /// Scans per second; scan i is stamped `start + i / rate`.
     #[arg(long, value_name = "HZ")]
     pub rate: Option<f64>,

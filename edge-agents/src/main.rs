@@ -15,14 +15,18 @@ mod error;
 mod ffmpeg;
 mod launch;
 mod lidar;
+mod lidar_live;
 mod live_detections;
 mod mic;
+mod mic_stream;
 mod output;
 mod pacing;
 mod publish;
 mod run;
+mod scan_follow;
 mod settings;
 mod sim;
+mod velodyne_input;
 mod video_input;
 mod video_reader;
 

@@ -2,7 +2,8 @@
 //!
 //! Channel 1 (or `--left`) is microphone m₁ of the descriptor, channel 2 (`--right`) is m₂; the front end's
 //! sign convention is the protocol's, tau = (‖x−m₂‖ − ‖x−m₁‖)/c. Frame stamps are `--start` (the capture time
-//! of the first sample; default the launch time) plus the frame centre's offset.
+//! of the first sample; default the launch time) plus the frame centre's offset. `--wav -` reads a live stream
+//! (`mic_stream.rs`), stamped on arrival.
 
 use std::path::Path;
 
@@ -14,6 +15,7 @@ use crate::descriptor::load_descriptor;
 use crate::emit::Frame;
 use crate::error::AgentError;
 use crate::launch::Prepared;
+use crate::mic_stream::LiveMic;
 use crate::pacing::wall_clock;
 use crate::run::{Event, EventSource};
 use crate::settings::read_frontend_config;
@@ -49,16 +51,23 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
     let SensorModel::MicPair(model) = &descriptor.model else {
         return Err(AgentError::Usage("the descriptor is not a mic pair".into()));
     };
+    let config = frontend_config(command.frontend_config.as_deref(), model)?;
+    if command
+        .wav
+        .as_deref()
+        .is_some_and(|wav| wav.as_os_str() == "-")
+    {
+        return prepare_live(command, config, descriptor);
+    }
     let audio =
         match (&command.wav, &command.left, &command.right) {
             (Some(wav), None, None) => read_stereo_wav(wav)?,
             (None, Some(left), Some(right)) => read_mono_pair(left, right)?,
             _ => return Err(AgentError::Usage(
-                "mic-pair needs one input: --wav FILE, --left A.wav --right B.wav, or --simulate"
+                "mic-pair needs one input: --wav FILE, --wav - (a stream on stdin), --left A.wav --right B.wav, or --simulate"
                     .into(),
             )),
         };
-    let config = frontend_config(command.frontend_config.as_deref(), model)?;
     let mut pipeline = MicPairPipeline::new(config, audio.sample_rate())?;
     let start = command.timing.start.unwrap_or_else(wall_clock);
     let frames = pipeline.process(&audio, start)?;
@@ -84,6 +93,28 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
         descriptor,
         start,
         start,
+    ))
+}
+
+/// `--wav -`: the stream on stdin, stamped on arrival.
+fn prepare_live(
+    command: &MicPairCommand,
+    config: MicPairConfig,
+    descriptor: protocol::SensorDescriptor,
+) -> Result<Prepared, AgentError> {
+    if command.timing.start.is_some() {
+        return Err(AgentError::Usage(
+            "--wav - is stamped on arrival (host clock less --pipeline-delay-ms): do not give --start"
+                .into(),
+        ));
+    }
+    let source = LiveMic::start(std::io::stdin(), config, command.pipeline_delay_ms)?;
+    let origin = source.origin_wall();
+    Ok(Prepared::single_sensor(
+        Box::new(source),
+        descriptor,
+        origin,
+        origin,
     ))
 }
 

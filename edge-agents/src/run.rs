@@ -51,6 +51,10 @@ pub trait EventSource {
     fn is_live(&self) -> bool {
         false
     }
+
+    /// Gives a live source the run's shutdown flag, so that a wait for data that may never come (a silent
+    /// socket) can end on Ctrl-C.
+    fn attach_shutdown(&mut self, _shutdown: &Shutdown) {}
 }
 
 /// Everything a run needs besides its source.
@@ -82,6 +86,7 @@ pub async fn run(
     else {
         return Ok(());
     };
+    source.attach_shutdown(&shutdown);
     let result = pump(source, &mut emitter, pacer, shutdown).await;
     let (counts, truth_sets) = emitter.finish().await?;
     for count in &counts {

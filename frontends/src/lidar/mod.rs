@@ -31,6 +31,7 @@ mod pcd_header;
 mod pipeline;
 mod point_cloud;
 mod ransac_plane;
+mod velodyne;
 
 pub use cloud_file::read_point_cloud;
 pub use clustering::{euclidean_clusters, ClusteringConfig, PointCluster};
@@ -43,3 +44,7 @@ pub use pcd::{decode_pcd, encode_pcd, read_pcd, write_pcd, PcdEncoding};
 pub use pipeline::{LidarPipeline, Segmentation};
 pub use point_cloud::PointCloud;
 pub use ransac_plane::{fit_ground_plane, GroundPlaneFit, Plane, RansacPlaneParams};
+pub use velodyne::{
+    decode_velodyne_packet, to_point, FiringBlock, RotationAssembler, VelodyneError, VelodyneModel,
+    FIRST_SCAN_START_DEG, PACKET_LEN,
+};

@@ -142,4 +142,10 @@ pub enum MicError {
     /// realfft refused a buffer; this indicates a bug in the buffer sizing, not bad input.
     #[error("internal FFT error: {0}")]
     Fft(String),
+    /// A WAV stream whose header is truncated, is not RIFF/WAVE, or describes audio that cannot be analysed.
+    #[error("WAV stream: {0}")]
+    WavStreamHeader(String),
+    /// Reading a WAV stream failed (not its end, which is a normal end of the stream).
+    #[error("WAV stream: reading failed: {0}")]
+    WavStreamRead(std::io::Error),
 }

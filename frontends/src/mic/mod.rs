@@ -18,17 +18,21 @@
 mod audio;
 mod config;
 mod error;
+mod frame_assembler;
 mod framing;
 mod gcc_phat;
 mod peaks;
 mod pipeline;
 mod wav;
+mod wav_stream;
 
 pub use audio::StereoAudio;
 pub use config::MicPairConfig;
 pub use error::MicError;
+pub use frame_assembler::FrameAssembler;
 pub use framing::{FrameLayout, FrameSpan};
 pub use gcc_phat::{GccPhat, GccPhatSettings, LagWindow, EDGE_MARGIN_SAMPLES};
 pub use peaks::{strongest_peaks, RefinedPeak};
 pub use pipeline::{MicPairPipeline, TdoaFrame, TdoaPeak, MAX_FRAME_LEN};
 pub use wav::{read_mono_pair, read_stereo_wav};
+pub use wav_stream::{WavStream, WavStreamFormat};

@@ -3,6 +3,7 @@
 use super::audio::StereoAudio;
 use super::config::MicPairConfig;
 use super::error::MicError;
+use super::frame_assembler::FrameAssembler;
 use super::framing::FrameLayout;
 use super::gcc_phat::{GccPhat, GccPhatSettings};
 use super::peaks::{strongest_peaks, RefinedPeak};
@@ -146,12 +147,12 @@ impl MicPairPipeline {
         if !start_time.is_finite() {
             return Err(MicError::NonFiniteStartTime(start_time));
         }
-        let layout = self.layout;
-        let frame_len = layout.frame_len();
-        let mut frames = Vec::with_capacity(layout.frame_count(audio.len()));
-        for span in layout.spans(audio.len()) {
-            let range = span.start..span.start + frame_len;
-            let peaks = self.frame_peaks(&audio.mic1()[range.clone()], &audio.mic2()[range])?;
+        // The same assembler live streams use, so a file and a stream of the same samples give the same sets.
+        let mut assembler = FrameAssembler::new(self.layout);
+        assembler.push(audio.mic1(), audio.mic2())?;
+        let mut frames = Vec::with_capacity(self.layout.frame_count(audio.len()));
+        while let Some((span, mic1, mic2)) = assembler.next_frame() {
+            let peaks = self.frame_peaks(mic1, mic2)?;
             frames.push(TdoaFrame {
                 stamp: start_time + span.centre_time,
                 tdoas: peaks.iter().map(|peak| peak.tdoa).collect(),
