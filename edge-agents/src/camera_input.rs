@@ -12,8 +12,8 @@ use crate::cli::CameraCommand;
 use crate::error::AgentError;
 use crate::live_detections::LiveDetections;
 use crate::pacing::wall_clock;
-use transport::shutdown::signalled;
 use crate::video_input::VideoInput;
+use transport::shutdown::signalled;
 
 /// One frame's head points.
 pub struct HeadPoints {

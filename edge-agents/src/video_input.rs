@@ -16,8 +16,8 @@ use crate::capture_clock::CaptureClock;
 use crate::cli::CameraCommand;
 use crate::error::AgentError;
 use crate::ffmpeg::{probe_frame_rate, SourceKind, VideoSpec};
-use transport::shutdown::signalled;
 use crate::video_reader::{VideoMessage, VideoReader};
+use transport::shutdown::signalled;
 
 /// How often falling behind a live source is reported.
 const REPORT_INTERVAL: Duration = Duration::from_secs(5);
