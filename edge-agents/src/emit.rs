@@ -67,12 +67,15 @@ struct Stream {
 impl Emitter {
     /// Validates every descriptor, opens Zenoh when publishing (declaring each sensor and, when `truth_site`
     /// is given, the truth publisher) and writes the descriptor lines to the replay output.
+    /// A `live` source's sensors are declared with their first set instead, so that a liveliness token
+    /// always means a sensor that produces (an agent waiting for its first packet is not yet alive).
     /// Returns `None` when shutdown was requested while waiting for the Zenoh router.
     pub async fn start(
         descriptors: Vec<SensorDescriptor>,
         truth_site: Option<&Site>,
         plan: OutputPlan,
         shutdown: &Shutdown,
+        live: bool,
     ) -> Result<Option<Self>, AgentError> {
         for descriptor in &descriptors {
             validate_descriptor(descriptor)?;
@@ -88,8 +91,8 @@ impl Emitter {
         let mut streams = Vec::with_capacity(descriptors.len());
         for descriptor in descriptors {
             let publisher = match &publishing {
-                Some(publishing) => Some(publishing.sensor(&descriptor).await?),
-                None => None,
+                Some(publishing) if !live => Some(publishing.sensor(&descriptor).await?),
+                _ => None,
             };
             if let Some(replay) = &mut replay {
                 replay.write(&ReplayLine::Descriptor(descriptor.clone()))?;
@@ -154,7 +157,7 @@ impl Emitter {
             return Ok(());
         }
         if let (None, Some(publishing)) = (&entry.publisher, &self.publishing) {
-            // Withdrawn while its source was down: back with this set.
+            // Not declared yet (a live source) or withdrawn while its source was down: back with this set.
             entry.publisher = Some(publishing.sensor(&entry.descriptor).await?);
         }
         if let Some(publisher) = &mut entry.publisher {

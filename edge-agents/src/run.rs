@@ -81,8 +81,14 @@ pub async fn run(
         output,
         pacer,
     } = plan;
-    let Some(mut emitter) =
-        Emitter::start(descriptors, truth_site.as_ref(), output, &shutdown).await?
+    let Some(mut emitter) = Emitter::start(
+        descriptors,
+        truth_site.as_ref(),
+        output,
+        &shutdown,
+        source.is_live(),
+    )
+    .await?
     else {
         return Ok(());
     };

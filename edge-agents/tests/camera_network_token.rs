@@ -1,5 +1,5 @@
 //! A network camera on Zenoh: the agent holds its liveliness token only while its source delivers. Nobody
-//! serves the stream at first (token withdrawn), then ffmpeg serves a clip over HTTP (token back, sets
+//! serves the stream at first (no token), then ffmpeg serves a clip over HTTP (token back, sets
 //! published), then the clip ends (token withdrawn again while the agent re-opens it), then SIGTERM.
 //!
 //! Needs the `ffmpeg` executable: skipped (saying so) without it, failed under CI.
@@ -15,6 +15,8 @@ use zenoh::sample::SampleKind;
 const SITE: &str = "agent-cam-test";
 /// Upper bound on any wait.
 const PATIENCE: Duration = Duration::from_secs(30);
+/// How long the agent is watched before its stream is served: long enough for a token to show.
+const QUIET: Duration = Duration::from_millis(1500);
 
 fn free_port() -> u16 {
     std::net::TcpListener::bind("127.0.0.1:0")
@@ -99,17 +101,15 @@ async fn a_network_camera_holds_its_token_only_while_its_stream_delivers() {
             .expect("liveliness subscriber open");
         (now(), sample.kind())
     };
-    let started = now();
-    assert_eq!(next_token().await.1, SampleKind::Put, "announced at start");
-    let (down_at, kind) = next_token().await;
-    assert_eq!(
-        kind,
-        SampleKind::Delete,
-        "withdrawn while nobody serves the stream"
+    // Nothing to read yet: an agent that has produced nothing holds no token.
+    let quiet = tokio::time::timeout(QUIET, alive.recv_async()).await;
+    assert!(
+        quiet.is_err(),
+        "no liveliness token while nobody serves the stream"
     );
     println!(
-        "token withdrawn {:.2} s after start: nothing to read",
-        down_at - started
+        "no token in the first {:.1} s: nothing to read",
+        QUIET.as_secs_f64()
     );
 
     let mut server = Command::new("ffmpeg")
