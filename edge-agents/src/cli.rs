@@ -211,6 +211,15 @@ pub struct MicPairCommand {
     /// Mono WAV of microphone 2 (with `--left`).
     #[arg(long, value_name = "B.wav", requires = "left")]
     pub right: Option<PathBuf>,
+    /// Capture from this sound input device (`default`: the host's default input), stereo, stamped on
+    /// arrival like `--wav -` (built with the cargo feature `sound-card`).
+    #[cfg(feature = "sound-card")]
+    #[arg(long, value_name = "DEVICE", conflicts_with_all = ["wav", "left", "right"])]
+    pub sound_card: Option<String>,
+    /// Sample rate of `--sound-card`, Hz.
+    #[cfg(feature = "sound-card")]
+    #[arg(long, value_name = "HZ", default_value_t = 16_000)]
+    pub sample_rate: u32,
     /// Mic front-end configuration (TOML of `frontends::mic::MicPairConfig`); default: its documented
     /// defaults with the descriptor's baseline and speed of sound.
     #[arg(long, value_name = "FILE")]

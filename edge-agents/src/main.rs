@@ -26,6 +26,8 @@ mod run;
 mod scan_follow;
 mod settings;
 mod sim;
+#[cfg(feature = "sound-card")]
+mod sound_card;
 mod velodyne_input;
 mod video_input;
 mod video_reader;

@@ -52,6 +52,17 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
         return Err(AgentError::Usage("the descriptor is not a mic pair".into()));
     };
     let config = frontend_config(command.frontend_config.as_deref(), model)?;
+    #[cfg(feature = "sound-card")]
+    if let Some(device) = &command.sound_card {
+        let device = (device != "default").then_some(device.as_str());
+        let source = crate::sound_card::start(
+            device,
+            command.sample_rate,
+            config,
+            command.pipeline_delay_ms,
+        )?;
+        return live_prepared(source, descriptor);
+    }
     if command
         .wav
         .as_deref()
@@ -109,6 +120,14 @@ fn prepare_live(
         ));
     }
     let source = LiveMic::start(std::io::stdin(), config, command.pipeline_delay_ms)?;
+    live_prepared(source, descriptor)
+}
+
+/// A live pair's run: its pacing origin is when its capture started.
+fn live_prepared(
+    source: LiveMic,
+    descriptor: protocol::SensorDescriptor,
+) -> Result<Prepared, AgentError> {
     let origin = source.origin_wall();
     Ok(Prepared::single_sensor(
         Box::new(source),
