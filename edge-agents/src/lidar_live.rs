@@ -10,17 +10,16 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use frontends::lidar::PointCloud;
-use transport::{LogLimiter, Shutdown};
+use transport::Shutdown;
 
 use crate::capture_clock::CaptureClock;
+use crate::drop_report::DropReport;
 use crate::error::AgentError;
 use crate::lidar::ScanSegmenter;
 use crate::run::{Event, EventSource};
 
 /// Scans waiting for segmentation before the reader drops new ones.
 pub const QUEUE_SCANS: usize = 4;
-/// At most one report of dropped scans per this interval.
-const REPORT_INTERVAL: Duration = Duration::from_secs(5);
 /// How long one wait for a scan lasts before the shutdown flag is looked at again.
 const POLL: Duration = Duration::from_millis(100);
 
@@ -67,9 +66,7 @@ pub struct LiveLidar {
     scans: Receiver<Captured>,
     segmenter: ScanSegmenter,
     clock: CaptureClock,
-    dropped: Arc<AtomicU64>,
-    reported_drops: u64,
-    report: LogLimiter,
+    drops: DropReport,
     shutdown: Option<Shutdown>,
     what: &'static str,
 }
@@ -82,7 +79,7 @@ impl LiveLidar {
         what: &'static str,
     ) -> (ScanQueue, Self) {
         let (sender, scans) = std::sync::mpsc::sync_channel(QUEUE_SCANS);
-        let dropped = Arc::new(AtomicU64::new(0));
+        let (drops, dropped) = DropReport::new();
         let queue = ScanQueue {
             sender,
             dropped: Arc::clone(&dropped),
@@ -91,9 +88,7 @@ impl LiveLidar {
             scans,
             segmenter,
             clock,
-            dropped,
-            reported_drops: 0,
-            report: LogLimiter::new(REPORT_INTERVAL),
+            drops,
             shutdown: None,
             what,
         };
@@ -102,16 +97,14 @@ impl LiveLidar {
 
     /// Logs scans dropped since the last report.
     fn report_drops(&mut self, stamp: f64) {
-        let dropped = self.dropped.load(Ordering::Relaxed);
-        if dropped > self.reported_drops && self.report.allow("dropped").is_some() {
+        if let Some((total, new)) = self.drops.due() {
             tracing::warn!(
                 input = self.what,
-                dropped_total = dropped,
-                dropped_now = dropped - self.reported_drops,
+                dropped_total = total,
+                dropped_now = new,
                 lag_ms = self.clock.lag(stamp) * 1e3,
                 "the segmentation cannot keep up: whole scans dropped"
             );
-            self.reported_drops = dropped;
         }
     }
 }
@@ -138,7 +131,7 @@ impl EventSource for LiveLidar {
                 Captured::End(reason) => {
                     tracing::info!(
                         input = self.what,
-                        dropped = self.dropped.load(Ordering::Relaxed),
+                        dropped = self.drops.total(),
                         %reason,
                         "the LIDAR input ended"
                     );

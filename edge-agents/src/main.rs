@@ -10,6 +10,7 @@ mod camera_tracker;
 mod capture_clock;
 mod cli;
 mod descriptor;
+mod drop_report;
 mod emit;
 mod error;
 mod ffmpeg;

@@ -18,15 +18,14 @@ use std::time::Duration;
 use frontends::mic::{FrameAssembler, MicError, MicPairConfig, MicPairPipeline, WavStream};
 
 use crate::capture_clock::CaptureClock;
+use crate::drop_report::DropReport;
 use crate::emit::Frame;
 use crate::error::AgentError;
 use crate::run::{Event, EventSource};
-use transport::{LogLimiter, Shutdown};
+use transport::Shutdown;
 
 /// Frames waiting for analysis before the reader drops new ones (at the default 256 ms, 4 s of audio).
 const QUEUE_FRAMES: usize = 16;
-/// At most one report of dropped frames per this interval.
-const REPORT_INTERVAL: Duration = Duration::from_secs(5);
 /// How long one wait for a frame lasts before the shutdown flag is looked at again.
 const POLL: Duration = Duration::from_millis(100);
 
@@ -52,10 +51,8 @@ pub struct LiveMic {
     frames: Receiver<Captured>,
     pipeline: MicPairPipeline,
     clock: CaptureClock,
-    dropped: Arc<AtomicU64>,
-    reported_drops: u64,
+    drops: DropReport,
     analysed: u64,
-    report: LogLimiter,
     shutdown: Option<Shutdown>,
 }
 
@@ -72,7 +69,7 @@ impl LiveMic {
         let format = stream.format();
         let pipeline = MicPairPipeline::new(config, format.sample_rate)?;
         let (sender, frames) = sync_channel(QUEUE_FRAMES);
-        let dropped = Arc::new(AtomicU64::new(0));
+        let (drops, dropped) = DropReport::new();
         let reader = Reader {
             stream,
             assembler: FrameAssembler::new(pipeline.layout()),
@@ -98,10 +95,8 @@ impl LiveMic {
             frames,
             pipeline,
             clock,
-            dropped,
-            reported_drops: 0,
+            drops,
             analysed: 0,
-            report: LogLimiter::new(REPORT_INTERVAL),
             shutdown: None,
         })
     }
@@ -113,15 +108,13 @@ impl LiveMic {
 
     /// Logs frames dropped since the last report, with how far behind the analysis runs.
     fn report_drops(&mut self, stamp: f64) {
-        let dropped = self.dropped.load(Ordering::Relaxed);
-        if dropped > self.reported_drops && self.report.allow("dropped").is_some() {
+        if let Some((total, new)) = self.drops.due() {
             tracing::warn!(
-                dropped_total = dropped,
-                dropped_now = dropped - self.reported_drops,
+                dropped_total = total,
+                dropped_now = new,
                 lag_ms = self.clock.lag(stamp) * 1e3,
                 "the analysis cannot keep up with the audio: whole frames dropped"
             );
-            self.reported_drops = dropped;
         }
     }
 }
@@ -165,7 +158,7 @@ impl EventSource for LiveMic {
             } => {
                 tracing::info!(
                     frames = self.analysed,
-                    dropped = self.dropped.load(Ordering::Relaxed),
+                    dropped = self.drops.total(),
                     unanalysed_samples = partial,
                     leftover_bytes,
                     "the audio stream ended (stdin closed)"
