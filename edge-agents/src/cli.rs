@@ -57,6 +57,11 @@ pub struct CommonArgs {
     /// Publish JSON payloads instead of postcard.
     #[arg(long)]
     pub json: bool,
+    /// Keep the descriptor as given: only log when the front end's measured clutter rate or detection
+    /// probability disagree with it, instead of announcing the measured figures (see edge-agents/README.md,
+    /// "Descriptors that match the front end").
+    #[arg(long)]
+    pub keep_descriptor: bool,
 }
 
 /// When frames are stamped and published.

@@ -7,6 +7,7 @@ use protocol::{MeasurementSet, ReplayLine, SensorDescriptor, Site, TruthSet, Wir
 use transport::ZenohConfig;
 
 use crate::descriptor::validate_descriptor;
+use crate::descriptor_calibration::{CalibrationMode, DescriptorCalibration};
 use crate::error::AgentError;
 use crate::output::ReplayWriter;
 use crate::publish::{await_subscribers, Publishing, SensorPublisher, TruthPublisher};
@@ -33,6 +34,8 @@ pub struct OutputPlan {
     pub replay: Option<ReplayWriter>,
     /// The Zenoh settings and payload form, when publishing.
     pub zenoh: Option<(ZenohConfig, WireFormat)>,
+    /// Whether (and how) the descriptors are refined from the sets emitted: front ends, not simulations.
+    pub calibration: Option<CalibrationMode>,
 }
 
 /// How many sets one sensor produced.
@@ -59,6 +62,7 @@ pub struct Emitter {
 /// One sensor's numbering and publisher.
 struct Stream {
     descriptor: SensorDescriptor,
+    calibration: Option<DescriptorCalibration>,
     next_seq: u64,
     publisher: Option<SensorPublisher>,
     count: SensorCount,
@@ -80,7 +84,11 @@ impl Emitter {
         for descriptor in &descriptors {
             validate_descriptor(descriptor)?;
         }
-        let OutputPlan { mut replay, zenoh } = plan;
+        let OutputPlan {
+            mut replay,
+            zenoh,
+            calibration,
+        } = plan;
         let publishing = match zenoh {
             Some((config, format)) => match Publishing::open(&config, format, shutdown).await? {
                 Some(publishing) => Some(publishing),
@@ -103,6 +111,8 @@ impl Emitter {
                     sets: 0,
                     invalid: 0,
                 },
+                calibration: calibration
+                    .and_then(|mode| DescriptorCalibration::new(&descriptor, mode)),
                 descriptor,
                 next_seq: 0,
                 publisher,
@@ -164,9 +174,31 @@ impl Emitter {
             publisher.put_set(&set).await;
         }
         entry.count.sets += 1;
+        let refined = entry
+            .calibration
+            .as_mut()
+            .and_then(|c| c.observe(set.stamp, &set.measurements));
         if let Some(replay) = &mut self.replay {
             replay.write(&ReplayLine::Measurements(set))?;
         }
+        if let Some(descriptor) = refined {
+            self.announce(stream, descriptor)?;
+        }
+        Ok(())
+    }
+
+    /// Announces sensor `stream`'s refined descriptor: the next sets are validated against it, the replay
+    /// output gets a descriptor line before them and the publisher puts it and answers queries with it.
+    fn announce(&mut self, stream: usize, descriptor: SensorDescriptor) -> Result<(), AgentError> {
+        validate_descriptor(&descriptor)?;
+        let entry = &mut self.streams[stream];
+        if let Some(publisher) = &mut entry.publisher {
+            publisher.update_descriptor(&descriptor)?;
+        }
+        if let Some(replay) = &mut self.replay {
+            replay.write(&ReplayLine::Descriptor(descriptor.clone()))?;
+        }
+        entry.descriptor = descriptor;
         Ok(())
     }
 

@@ -4,6 +4,7 @@
 use protocol::{SensorDescriptor, Site, WireFormat};
 
 use crate::cli::CommonArgs;
+use crate::descriptor_calibration::CalibrationMode;
 use crate::emit::OutputPlan;
 use crate::error::AgentError;
 use crate::output::ReplayWriter;
@@ -25,10 +26,13 @@ pub struct Prepared {
     /// The wall time at which `origin_stamp` is due: the same value for simulations and sources stamped from
     /// `--start` (so processes agree), the launch time for recorded stamps replayed at their own pace.
     pub origin_wall: f64,
+    /// Whether the sets come from a real front end, whose descriptor is refined from what it emits
+    /// (`descriptor_calibration.rs`); simulated sensors match their descriptors by construction.
+    pub calibrate: bool,
 }
 
 impl Prepared {
-    /// A run of one sensor without truth.
+    /// A run of one front end's sensor, without truth, its descriptor refined as it runs.
     pub fn single_sensor(
         source: Box<dyn EventSource>,
         descriptor: SensorDescriptor,
@@ -41,6 +45,7 @@ impl Prepared {
             truth_site: None,
             origin_stamp,
             origin_wall,
+            calibrate: true,
         }
     }
 }
@@ -86,6 +91,11 @@ pub async fn launch(
         output: OutputPlan {
             replay,
             zenoh: publishing.then(|| (settings.zenoh.clone(), format)),
+            calibration: prepared.calibrate.then_some(if common.keep_descriptor {
+                CalibrationMode::LogOnly
+            } else {
+                CalibrationMode::Update
+            }),
         },
         pacer,
     };

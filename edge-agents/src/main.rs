@@ -4,12 +4,14 @@
 //! publishes them over Zenoh (descriptor, liveliness token, one `MeasurementSet` per frame) and/or writes them
 //! as replay lines. See README.md for every subcommand with an example.
 
+mod calibration;
 mod camera;
 mod camera_input;
 mod camera_tracker;
 mod capture_clock;
 mod cli;
 mod descriptor;
+mod descriptor_calibration;
 mod drop_report;
 mod emit;
 mod error;

@@ -6,10 +6,12 @@
 //! as a `seq` gap, never vanish. A failed put never stops the agent: it is logged (rate-limited) and the
 //! next frame is published as usual; in client mode Zenoh reconnects by itself when the router returns.
 
+use std::sync::{Arc, RwLock};
 use std::time::Duration;
 
 use protocol::{keys, MeasurementSet, SensorDescriptor, Site, TruthSet, WireFormat};
 use serde::Serialize;
+use tokio::sync::watch;
 use transport::ZenohConfig;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::pubsub::Publisher;
@@ -63,9 +65,9 @@ impl Publishing {
     ) -> Result<SensorPublisher, AgentError> {
         let (site, sensor) = (&descriptor.site, &descriptor.sensor);
         let descriptor_key = keys::descriptor_key(site, sensor);
-        let forms = DescriptorForms::new(descriptor)?;
+        let forms = Arc::new(RwLock::new(DescriptorForms::new(descriptor)?));
         let queryable = self
-            .declare_descriptor_queryable(&descriptor_key, forms)
+            .declare_descriptor_queryable(&descriptor_key, Arc::clone(&forms))
             .await?;
         let mut descriptor_publisher = TypedPublisher::declare(
             &self.session,
@@ -76,15 +78,19 @@ impl Publishing {
         .await?;
         // The first put is awaited so that the descriptor precedes the first set.
         descriptor_publisher.put(descriptor).await;
-        let refresh = {
-            let descriptor = descriptor.clone();
-            tokio::spawn(async move {
-                loop {
-                    tokio::time::sleep(DESCRIPTOR_REFRESH).await;
-                    descriptor_publisher.put(&descriptor).await;
+        let (current, mut changed) = watch::channel(descriptor.clone());
+        let refresh = tokio::spawn(async move {
+            loop {
+                // A changed descriptor is put at once, and then again every DESCRIPTOR_REFRESH.
+                if let Ok(Err(_)) =
+                    tokio::time::timeout(DESCRIPTOR_REFRESH, changed.changed()).await
+                {
+                    break; // the sensor was withdrawn
                 }
-            })
-        };
+                let descriptor = changed.borrow_and_update().clone();
+                descriptor_publisher.put(&descriptor).await;
+            }
+        });
         let sets = TypedPublisher::declare(
             &self.session,
             keys::measurements_key(site, sensor),
@@ -103,6 +109,8 @@ impl Publishing {
         tracing::info!(sensor = %sensor, kind = descriptor.model.kind_name(), key = %descriptor_key, "sensor announced");
         Ok(SensorPublisher {
             sets,
+            current,
+            forms,
             _token: token,
             _queryable: queryable,
             refresh,
@@ -133,12 +141,15 @@ impl Publishing {
     async fn declare_descriptor_queryable(
         &self,
         descriptor_key: &str,
-        forms: DescriptorForms,
+        forms: Arc<RwLock<DescriptorForms>>,
     ) -> Result<Queryable<()>, AgentError> {
         let reply_key = descriptor_key.to_owned();
         self.session
             .declare_queryable(descriptor_key.to_owned())
-            .callback(move |query| forms.answer(&query, &reply_key))
+            .callback(move |query| match forms.read() {
+                Ok(forms) => forms.answer(&query, &reply_key),
+                Err(poisoned) => poisoned.get_ref().answer(&query, &reply_key),
+            })
             .await
             .map_err(|e| declare_error(&format!("queryable {descriptor_key}"), e))
     }
@@ -147,6 +158,10 @@ impl Publishing {
 /// What one sensor holds on Zenoh for as long as it runs; dropping it withdraws the sensor.
 pub struct SensorPublisher {
     sets: TypedPublisher,
+    /// The descriptor the refresh task puts.
+    current: watch::Sender<SensorDescriptor>,
+    /// The descriptor in both forms, as the queryable answers it.
+    forms: Arc<RwLock<DescriptorForms>>,
     /// Held, not used: dropping it undeclares the token and tells the server the sensor left.
     _token: LivelinessToken,
     /// Held, not used: answers descriptor queries from Zenoh's threads.
@@ -159,6 +174,18 @@ impl SensorPublisher {
     /// Publishes one set; a failure is logged (rate-limited), never returned.
     pub async fn put_set(&mut self, set: &MeasurementSet) {
         self.sets.put(set).await;
+    }
+
+    /// Announces a changed descriptor (the same sensor, refined figures): the queryable answers with it at
+    /// once and it is put now and on every refresh. The descriptor must be valid.
+    pub fn update_descriptor(&mut self, descriptor: &SensorDescriptor) -> Result<(), AgentError> {
+        let forms = DescriptorForms::new(descriptor)?;
+        match self.forms.write() {
+            Ok(mut current) => *current = forms,
+            Err(poisoned) => *poisoned.into_inner() = forms,
+        }
+        self.current.send_replace(descriptor.clone());
+        Ok(())
     }
 
     /// Whether Zenoh knows a subscriber for this sensor's sets (a session drops puts nobody subscribes to).

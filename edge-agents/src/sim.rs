@@ -127,6 +127,7 @@ fn prepare(
         selected.iter().map(|&i| all[i].clone()).collect()
     };
     Ok(Prepared {
+        calibrate: false,
         source: Box::new(SimSource::new(simulation, selected, truth, duration)),
         descriptors,
         truth_site,

@@ -73,10 +73,29 @@ fn out_of_range_values_are_rejected_with_the_field_named() {
 fn frames_too_short_for_the_lag_range_or_an_empty_band_are_rejected() {
     let mut short_frames = MicPairConfig::new(0.5);
     short_frames.frame_duration = 0.004; // 64 samples for lags up to 23
+    short_frames.segment_duration = 0.0; // the whole frame at once
     assert!(matches!(
         MicPairPipeline::new(short_frames, RATE),
         Err(MicError::InvalidConfig {
             field: "frame_duration",
+            ..
+        })
+    ));
+    let mut short_segments = MicPairConfig::new(0.5);
+    short_segments.segment_duration = 0.004;
+    assert!(matches!(
+        MicPairPipeline::new(short_segments, RATE),
+        Err(MicError::InvalidConfig {
+            field: "segment_duration",
+            ..
+        })
+    ));
+    let mut long_segments = MicPairConfig::new(0.5);
+    long_segments.segment_duration = 0.5;
+    assert!(matches!(
+        MicPairPipeline::new(long_segments, RATE),
+        Err(MicError::InvalidConfig {
+            field: "segment_duration",
             ..
         })
     ));

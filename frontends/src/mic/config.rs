@@ -73,6 +73,15 @@ pub struct MicPairConfig {
     /// white-noise test signal) looks like background noise to it: set 0 to localise such sources.
     #[serde(default = "default_min_spectral_contrast")]
     pub min_spectral_contrast: f64,
+    /// Length in seconds of the segments (half overlapping) over which each frame's cross-spectrum is
+    /// averaged and weighted by the channels' coherence (the maximum-likelihood GCC of Knapp & Carter; see
+    /// `coherence.rs`); 0 correlates the whole frame at once with PHAT weighting (`phat_floor` and
+    /// `median_gate` apply only then). Default 0.064 (1024 samples at 16 kHz, seven segments per 256 ms
+    /// frame). Why: in a reverberant room the coherence tells the bins the direct path dominates from those
+    /// of the diffuse field and the noise; on the rendered default room (T60 0.3 s, SNR 20 dB) the talkers'
+    /// direct paths are among the two strongest peaks half as often again as with PHAT.
+    #[serde(default = "default_segment_duration")]
+    pub segment_duration: f64,
 }
 
 fn default_speed_of_sound() -> f64 {
@@ -102,6 +111,9 @@ fn default_median_gate() -> f64 {
 fn default_min_spectral_contrast() -> f64 {
     1.25
 }
+fn default_segment_duration() -> f64 {
+    0.064
+}
 
 impl MicPairConfig {
     /// The documented defaults for a pair of microphones `mic_distance` metres apart.
@@ -119,6 +131,7 @@ impl MicPairConfig {
             phat_floor: default_phat_floor(),
             median_gate: default_median_gate(),
             min_spectral_contrast: default_min_spectral_contrast(),
+            segment_duration: default_segment_duration(),
         }
     }
 
@@ -157,6 +170,16 @@ impl MicPairConfig {
         }
         non_negative("median_gate", self.median_gate)?;
         non_negative("min_spectral_contrast", self.min_spectral_contrast)?;
+        non_negative("segment_duration", self.segment_duration)?;
+        if self.segment_duration > self.frame_duration {
+            return Err(invalid(
+                "segment_duration",
+                format!(
+                    "{} s is longer than the frame ({} s)",
+                    self.segment_duration, self.frame_duration
+                ),
+            ));
+        }
         Ok(())
     }
 }

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
+use super::coherence::AveragedSpectra;
 use super::error::MicError;
 
 /// How far beyond ±`max_lag` (in samples) the correlation is searched; peaks found there are end-fire sources.
@@ -38,6 +39,10 @@ pub struct GccPhatSettings {
     /// Bins whose cross-spectrum magnitude is below this multiple of the band's median magnitude get weight 0.
     /// 0 disables it. See [`crate::mic::MicPairConfig::median_gate`].
     pub median_gate: f64,
+    /// `None`: one PHAT-weighted cross-spectrum of the whole frame. `Some(len)`: the cross-spectra of the
+    /// frame's segments of `len` samples (half overlapping) are averaged and weighted by their coherence
+    /// (`coherence.rs`); the PHAT floor and the median gate are then not used.
+    pub segment_len: Option<usize>,
 }
 
 /// One frame's correlation around zero lag: `values[i]` is the GCC-PHAT at lag
@@ -76,6 +81,8 @@ pub struct GccPhat {
     band_scratch: Vec<f64>,
     lag_values: Vec<f64>,
     half_width: usize,
+    /// Segment length and the segments' sums, when averaging over segments.
+    segments: Option<(usize, AveragedSpectra)>,
 }
 
 impl GccPhat {
@@ -96,13 +103,27 @@ impl GccPhat {
         if interpolation == 0 {
             return Err(invalid("interpolation", "must be at least 1".into()));
         }
-        if frame_len < 4 * (max_lag.ceil() as usize + 1) {
+        let transform_len = settings.segment_len.unwrap_or(frame_len);
+        if transform_len > frame_len {
             return Err(invalid(
-                "frame_duration",
-                format!("gives {frame_len} samples, too short for lags up to {max_lag:.1} samples"),
+                "segment_duration",
+                format!("gives {transform_len} samples, more than the frame's {frame_len}"),
             ));
         }
-        let fft_len = (frame_len + max_lag.ceil() as usize + 1).next_power_of_two();
+        if transform_len < 4 * (max_lag.ceil() as usize + 1) {
+            let field = if settings.segment_len.is_some() {
+                "segment_duration"
+            } else {
+                "frame_duration"
+            };
+            return Err(invalid(
+                field,
+                format!(
+                    "gives {transform_len} samples, too short for lags up to {max_lag:.1} samples"
+                ),
+            ));
+        }
+        let fft_len = (transform_len + max_lag.ceil() as usize + 1).next_power_of_two();
         let band_bins = band_bins(&settings, fft_len)?;
         let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(fft_len);
@@ -118,7 +139,10 @@ impl GccPhat {
             band_bins,
             phat_floor: settings.phat_floor,
             median_gate: settings.median_gate,
-            window: hann_window(frame_len),
+            window: hann_window(transform_len),
+            segments: settings
+                .segment_len
+                .map(|len| (len, AveragedSpectra::new(fft_len / 2 + 1))),
             padded_frame: forward.make_input_vec(),
             spectrum1: forward.make_output_vec(),
             spectrum2: forward.make_output_vec(),
@@ -148,10 +172,18 @@ impl GccPhat {
                 mic2: mic2.len(),
             });
         }
-        self.transform(mic1, true)?;
-        self.transform(mic2, false)?;
-        let spectral_contrast = self.spectral_contrast();
-        let weight_sum = self.phat_cross_spectrum();
+        let (spectral_contrast, weight_sum) = if self.segments.is_some() {
+            self.averaged_cross_spectrum(mic1, mic2)?
+        } else {
+            self.transform(mic1, true)?;
+            self.transform(mic2, false)?;
+            let (low, high) = self.band_bins;
+            self.band_scratch.clear();
+            self.band_scratch.extend(
+                (low..=high).map(|k| self.spectrum1[k].norm_sqr() + self.spectrum2[k].norm_sqr()),
+            );
+            (self.spectral_contrast(), self.phat_cross_spectrum())
+        };
         self.inverse
             .process_with_scratch(
                 &mut self.cross_spectrum,
@@ -178,13 +210,44 @@ impl GccPhat {
         })
     }
 
-    /// Windows and zero-pads `frame`, then transforms it into `spectrum1` (mic 1) or `spectrum2` (mic 2).
+    /// The segments' averaged cross-spectrum, coherence-weighted, in `cross_spectrum`; returns the spectral
+    /// contrast of the averaged power and the weights' sum (see [`AveragedSpectra::ml_weighted`]).
+    fn averaged_cross_spectrum(
+        &mut self,
+        mic1: &[f64],
+        mic2: &[f64],
+    ) -> Result<(f64, f64), MicError> {
+        let Some((len, mut spectra)) = self.segments.take() else {
+            return Ok((0.0, 0.0));
+        };
+        spectra.clear();
+        let hop = (len / 2).max(1);
+        let mut start = 0;
+        let mut result = Ok(());
+        while start + len <= mic1.len() && result.is_ok() {
+            result = self
+                .transform(&mic1[start..start + len], true)
+                .and_then(|()| self.transform(&mic2[start..start + len], false));
+            spectra.add(&self.spectrum1, &self.spectrum2, self.band_bins);
+            start += hop;
+        }
+        self.band_scratch.clear();
+        spectra.total_power(self.band_bins, &mut self.band_scratch);
+        let contrast = self.spectral_contrast();
+        self.cross_spectrum.fill(Complex::new(0.0, 0.0));
+        let weight_sum = spectra.ml_weighted(self.band_bins, &mut self.cross_spectrum);
+        self.segments = Some((len, spectra));
+        result.map(|()| (contrast, weight_sum))
+    }
+
+    /// Windows and zero-pads `frame` (a whole frame, or one segment of it), then transforms it into
+    /// `spectrum1` (mic 1) or `spectrum2` (mic 2).
     fn transform(&mut self, frame: &[f64], is_mic1: bool) -> Result<(), MicError> {
         for ((slot, &sample), &w) in self.padded_frame.iter_mut().zip(frame).zip(&self.window) {
             *slot = sample * w;
         }
         // realfft uses its input as scratch space, so the padding must be re-zeroed every time.
-        self.padded_frame[self.frame_len..].fill(0.0);
+        self.padded_frame[frame.len()..].fill(0.0);
         let spectrum = if is_mic1 {
             &mut self.spectrum1
         } else {
@@ -195,13 +258,9 @@ impl GccPhat {
             .map_err(|e| MicError::Fft(e.to_string()))
     }
 
-    /// Mean over median of `|Y1|² + |Y2|²` in the band (see [`LagWindow::spectral_contrast`]).
+    /// Mean over median of the band's power `|Y1|² + |Y2|²`, which the caller put in `band_scratch` (see
+    /// [`LagWindow::spectral_contrast`]).
     fn spectral_contrast(&mut self) -> f64 {
-        let (low, high) = self.band_bins;
-        self.band_scratch.clear();
-        self.band_scratch.extend(
-            (low..=high).map(|k| self.spectrum1[k].norm_sqr() + self.spectrum2[k].norm_sqr()),
-        );
         let mean = self.band_scratch.iter().sum::<f64>() / self.band_scratch.len() as f64;
         let median = median_in_place(&mut self.band_scratch);
         if mean <= 0.0 {

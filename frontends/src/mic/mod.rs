@@ -16,6 +16,7 @@
 #![warn(missing_docs)]
 
 mod audio;
+mod coherence;
 mod config;
 mod error;
 mod frame_assembler;

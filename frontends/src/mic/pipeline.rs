@@ -75,6 +75,8 @@ impl MicPairPipeline {
             max_frequency: config.max_frequency.unwrap_or(rate / 2.0),
             phat_floor: config.phat_floor,
             median_gate: config.median_gate,
+            segment_len: (config.segment_duration > 0.0)
+                .then(|| (config.segment_duration * rate).round() as usize),
         })?;
         Ok(Self {
             refined: Vec::with_capacity(config.max_peaks),

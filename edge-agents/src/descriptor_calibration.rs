@@ -1,0 +1,184 @@
+//! Keeps a front end's descriptor honest: its `clutter_rate` and `detection_probability` are what the user
+//! gave (or the agent's defaults) to start with, and are then refined from what the front end actually emits
+//! ([`RateEstimator`], `calibration.rs`). When the estimate drifts from the announced figures the agent logs
+//! it and, unless `--keep-descriptor` was given, announces the estimate as its new descriptor.
+//!
+//! Drift is checked every [`CHECK_EVERY`] frames once the estimator has enough of them; it counts when the
+//! clutter rate differs by more than `max(0.3, 25 %)` or the detection probability by more than 0.1. The
+//! tolerance keeps the descriptor from changing at every check, since each change is a new measurement
+//! model in the filter.
+
+use protocol::{SensorDescriptor, SensorModel};
+use transport::LogLimiter;
+
+use crate::calibration::{Estimate, RateEstimator};
+
+/// Frames between two drift checks.
+pub const CHECK_EVERY: usize = 50;
+/// Smallest clutter-rate difference that counts as drift.
+const CLUTTER_TOLERANCE: f64 = 0.3;
+/// Relative clutter-rate difference that counts as drift.
+const CLUTTER_RELATIVE_TOLERANCE: f64 = 0.25;
+/// Detection-probability difference that counts as drift.
+const DETECTION_TOLERANCE: f64 = 0.1;
+/// How fast a walking person's head moves, m/s (the drift a camera or LIDAR reading of it may show).
+const WALKING_SPEED: f64 = 1.5;
+/// How fast a talker's direction seen from a microphone pair turns, rad/s (a talker moves slowly while
+/// speaking).
+const TALKER_TURN_RATE: f64 = 0.25;
+/// Typical distance from a camera to the people it watches, m (turns a walking speed into pixels).
+const CAMERA_DISTANCE: f64 = 3.0;
+
+/// What the agent does when its front end and its descriptor disagree.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CalibrationMode {
+    /// Announce the estimate as the new descriptor (the default).
+    Update,
+    /// Keep the descriptor; only log the drift.
+    LogOnly,
+}
+
+/// One sensor's running calibration.
+pub struct DescriptorCalibration {
+    estimator: RateEstimator,
+    announced: SensorDescriptor,
+    mode: CalibrationMode,
+    frames: usize,
+    drift_log: LogLimiter,
+}
+
+impl DescriptorCalibration {
+    /// A calibration starting from `descriptor`; `None` for sensor kinds whose readings it cannot gate
+    /// (positions and bearing–range sensors are taken as the user gives them).
+    pub fn new(descriptor: &SensorDescriptor, mode: CalibrationMode) -> Option<Self> {
+        Some(Self {
+            estimator: estimator_for(&descriptor.model)?,
+            announced: descriptor.clone(),
+            mode,
+            frames: 0,
+            drift_log: LogLimiter::new(std::time::Duration::from_secs(30)),
+        })
+    }
+
+    /// Takes one emitted frame; returns a descriptor to announce when the figures drifted and the mode says so.
+    pub fn observe(&mut self, stamp: f64, measurements: &[Vec<f64>]) -> Option<SensorDescriptor> {
+        self.estimator.observe(stamp, measurements);
+        self.frames += 1;
+        if self.frames % CHECK_EVERY != 0 {
+            return None;
+        }
+        let estimate = self.estimator.estimate()?;
+        if !drifted(&self.announced, &estimate) {
+            return None;
+        }
+        self.report(&estimate);
+        if self.mode == CalibrationMode::LogOnly {
+            return None;
+        }
+        self.announced.clutter_rate = round_to(estimate.clutter_rate, 0.05);
+        self.announced.detection_probability = round_to(estimate.detection_probability, 0.01);
+        Some(self.announced.clone())
+    }
+
+    fn report(&mut self, estimate: &Estimate) {
+        let Some(suppressed) = self.drift_log.allow("drift") else {
+            return;
+        };
+        tracing::warn!(
+            sensor = %self.announced.sensor,
+            announced_clutter = self.announced.clutter_rate,
+            measured_clutter = format!("{:.2}", estimate.clutter_rate),
+            announced_detection = self.announced.detection_probability,
+            measured_detection = format!("{:.2}", estimate.detection_probability),
+            frames = estimate.frames,
+            action = match self.mode {
+                CalibrationMode::Update => "announcing the measured figures",
+                CalibrationMode::LogOnly => "keeping the descriptor (--keep-descriptor)",
+            },
+            suppressed,
+            "the front end's output and its descriptor disagree"
+        );
+    }
+}
+
+/// Whether the estimate is far enough from the announced figures to count as drift.
+fn drifted(announced: &SensorDescriptor, estimate: &Estimate) -> bool {
+    let clutter_tolerance =
+        CLUTTER_TOLERANCE.max(CLUTTER_RELATIVE_TOLERANCE * announced.clutter_rate);
+    (estimate.clutter_rate - announced.clutter_rate).abs() > clutter_tolerance
+        || (estimate.detection_probability - announced.detection_probability).abs()
+            > DETECTION_TOLERANCE
+}
+
+fn round_to(value: f64, step: f64) -> f64 {
+    (value / step).round() * step
+}
+
+/// The estimator for a sensor model: its noise, how fast a moving person's reading drifts, and the width
+/// of its measurement region, per coordinate.
+fn estimator_for(model: &SensorModel) -> Option<RateEstimator> {
+    match model {
+        SensorModel::Camera(camera) => {
+            let pixels = WALKING_SPEED * focal_length(&camera.projection) / CAMERA_DISTANCE;
+            let [w, h] = camera.image_size.map(f64::from);
+            Some(RateEstimator::new(
+                &camera.noise_std,
+                &[pixels, pixels],
+                &[w, h],
+            ))
+        }
+        SensorModel::MicPair(pair) => {
+            let baseline = (0..3)
+                .map(|i| (pair.mics[0][i] - pair.mics[1][i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let max_delay = baseline / pair.speed_of_sound;
+            Some(RateEstimator::new(
+                &[pair.noise_std],
+                &[max_delay * TALKER_TURN_RATE],
+                &[2.0 * max_delay],
+            ))
+        }
+        SensorModel::Lidar(lidar) => {
+            let span = lidar.elevation_limits[1] - lidar.elevation_limits[0];
+            Some(RateEstimator::new(
+                &lidar.noise_std,
+                // Range, azimuth and elevation drift of a person walking at 1.5 m/s a metre or more away.
+                &[WALKING_SPEED, WALKING_SPEED, WALKING_SPEED],
+                &[lidar.max_range, std::f64::consts::TAU, span.max(1e-3)],
+            ))
+        }
+        SensorModel::BearingRange(_) | SensorModel::Position(_) => None,
+    }
+}
+
+/// The focal length in pixels of a projection `P = s·K·[R | t]` (zero skew): with the rows `a_i` of its
+/// left 3 × 3 block scaled so that `|a_2| = 1`, `c_x = a_0 · a_2` and `f² = |a_0|² − c_x²`.
+fn focal_length(projection: &[[f64; 4]; 3]) -> f64 {
+    let row = |i: usize| &projection[i][..3];
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let scale = dot(row(2), row(2)).sqrt().max(f64::MIN_POSITIVE);
+    let cx = dot(row(0), row(2)) / (scale * scale);
+    (dot(row(0), row(0)) / (scale * scale) - cx * cx)
+        .max(1.0)
+        .sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn focal_length_of_a_look_at_camera() {
+        let pose = simulator::LookAt {
+            eye: [0.0, 0.0, 2.5],
+            target: [1.5, 1.0, 1.2],
+            focal_px: 500.0,
+            image_size: [640, 480],
+        };
+        let projection = simulator::look_at_projection(&pose);
+        assert!((focal_length(&projection) - 500.0).abs() < 1e-6);
+        let scaled = projection.map(|row| row.map(|v| 3.0 * v));
+        assert!((focal_length(&scaled) - 500.0).abs() < 1e-6);
+    }
+}

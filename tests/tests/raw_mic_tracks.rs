@@ -1,0 +1,193 @@
+//! Two talkers in the default room, heard only by its four microphone pairs, end to end from the
+//! raw signal: the rendered audio of each pair (speech-like voices through the image-source room,
+//! T60 0.3 s, SNR 20 dB) through the mic-pair front end, its TDOA sets with the descriptor the
+//! agent publishes through `fusion-server replay`'s engine, scored in the horizontal plane against
+//! the truth in the frames in which someone talks.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+
+use checker::processes::binary;
+use evaluation::TRUTH_TOLERANCE_S;
+use fusion_server::config::ServerConfig;
+use fusion_server::replay::replay;
+use gmphd::metrics::{ospa, MetricParams};
+use nalgebra::DVector;
+use protocol::{ReplayLine, SensorDescriptor, SensorModel, TrackSet, TruthSet};
+use simulator::render::{render_mic_pair, AcousticRoom, Talker};
+use simulator::Scenario;
+
+/// Seconds simulated.
+const SECONDS: f64 = 40.0;
+/// Scored from here on: both talkers have appeared and talked by then.
+const SETTLED_S: f64 = 6.0;
+const START: f64 = 1_763_700_000.0;
+
+/// The default room with its first two people and its four microphone pairs only.
+fn two_talker_room() -> Scenario {
+    let mut scenario = simulator::default_room();
+    scenario.start = Some(START);
+    scenario.duration_s = SECONDS;
+    scenario.targets.truncate(2);
+    scenario
+        .sensors
+        .retain(|s| matches!(s.model, SensorModel::MicPair(_)));
+    scenario
+}
+
+/// One pair's rendered audio through the real `edge-agent mic-pair --wav` (its front end, and the
+/// descriptor it announces, refined from its own output unless `keep_descriptor`): its replay lines.
+fn agent_lines(
+    scenario: &Scenario,
+    spec: &simulator::SensorSpec,
+    seed: u64,
+    keep_descriptor: bool,
+    dir: &Path,
+) -> (Vec<ReplayLine>, Vec<Talker>) {
+    let name = spec.sensor.as_str();
+    let rendered =
+        render_mic_pair(scenario, name, &AcousticRoom::default(), seed, SECONDS).unwrap();
+    let wav = dir.join(format!("{name}.wav"));
+    let format = hound::WavSpec {
+        channels: 2,
+        sample_rate: rendered.sample_rate,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
+    };
+    let mut writer = hound::WavWriter::create(&wav, format).unwrap();
+    for (a, b) in rendered.mic1.iter().zip(&rendered.mic2) {
+        writer.write_sample(*a as f32).unwrap();
+        writer.write_sample(*b as f32).unwrap();
+    }
+    writer.finalize().unwrap();
+    let descriptor = dir.join(format!("{name}.json"));
+    let given = SensorDescriptor::new(
+        scenario.site.clone(),
+        spec.sensor.clone(),
+        spec.model.clone(),
+        spec.detection_probability,
+        spec.clutter_rate,
+    );
+    std::fs::write(&descriptor, serde_json::to_vec(&given).unwrap()).unwrap();
+    let output = dir.join(format!("{name}.jsonl"));
+    let mut command = Command::new(binary("edge-agent").unwrap());
+    command
+        .args(["mic-pair", "--wav"])
+        .arg(&wav)
+        .arg("--descriptor")
+        .arg(&descriptor)
+        .args(["--start", &START.to_string(), "--output"])
+        .arg(&output)
+        .env("RUST_LOG", "warn");
+    if keep_descriptor {
+        command.arg("--keep-descriptor");
+    }
+    let status = command.status().unwrap();
+    assert!(status.success(), "edge-agent mic-pair failed for {name}");
+    let lines = std::fs::read_to_string(&output)
+        .unwrap()
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    (lines, rendered.talkers)
+}
+
+/// The replay file: the simulator's truth and each pair's agent output, merged in stamp order (each
+/// agent's own lines keep their order: a refined descriptor stays before the sets that follow it).
+/// Also returns every talker's spurts, shared by all pairs.
+fn replay_file(scenario: &Scenario, seed: u64, keep_descriptor: bool) -> (Vec<u8>, Vec<Talker>) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut keyed: Vec<(f64, usize, ReplayLine)> = simulator::replay_lines(scenario, seed, SECONDS)
+        .unwrap()
+        .filter_map(|line| match line {
+            ReplayLine::Truth(truth) => Some((truth.stamp, 0, ReplayLine::Truth(truth))),
+            _ => None,
+        })
+        .collect();
+    let mut talkers = Vec::new();
+    for spec in &scenario.sensors {
+        let (lines, heard) = agent_lines(scenario, spec, seed, keep_descriptor, dir.path());
+        let mut next_stamp = f64::INFINITY;
+        let mut own = Vec::with_capacity(lines.len());
+        for line in lines.into_iter().rev() {
+            if let ReplayLine::Measurements(set) = &line {
+                next_stamp = set.stamp;
+            }
+            own.push((next_stamp, own.len(), line));
+        }
+        // Within one agent, a descriptor sorts before the set that follows it (reversed positions).
+        keyed.extend(
+            own.into_iter()
+                .map(|(stamp, rev, line)| (stamp, usize::MAX - rev, line)),
+        );
+        talkers = heard;
+    }
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut out = Vec::new();
+    for (_, _, line) in keyed {
+        serde_json::to_writer(&mut out, &line).unwrap();
+        out.push(b'\n');
+    }
+    (out, talkers)
+}
+
+fn someone_talks(talkers: &[Talker], t: f64) -> bool {
+    talkers
+        .iter()
+        .any(|talker| talker.spurts.iter().any(|&(a, b)| a <= t && t < b))
+}
+
+fn horizontal(points: impl Iterator<Item = [f64; 3]>) -> Vec<DVector<f64>> {
+    points.map(|p| DVector::from_row_slice(&p[..2])).collect()
+}
+
+/// Mean OSPA(x, y) (c = 1 m, p = 1) and the share of track sets with the right count, over the
+/// settled track sets stamped while someone talks.
+fn figures(tracks: &[TrackSet], truth: &[TruthSet], talkers: &[Talker]) -> (f64, f64, usize) {
+    let truth: BTreeMap<u64, &TruthSet> = truth.iter().map(|t| (t.stamp.to_bits(), t)).collect();
+    let params = MetricParams::new(1.0, 1.0).unwrap();
+    let (mut sum, mut right, mut n) = (0.0, 0usize, 0usize);
+    for set in tracks {
+        let t = set.stamp - START;
+        if t < SETTLED_S || !someone_talks(talkers, t) {
+            continue;
+        }
+        let Some(nearest) = truth
+            .values()
+            .min_by(|a, b| {
+                (a.stamp - set.stamp)
+                    .abs()
+                    .total_cmp(&(b.stamp - set.stamp).abs())
+            })
+            .filter(|n| (n.stamp - set.stamp).abs() <= TRUTH_TOLERANCE_S)
+        else {
+            continue;
+        };
+        let x = horizontal(nearest.objects.iter().map(|o| o.position));
+        let y = horizontal(set.tracks.iter().map(|t| t.position));
+        sum += ospa(&x, &y, params).unwrap().distance;
+        right += usize::from(x.len() == y.len());
+        n += 1;
+    }
+    (sum / n.max(1) as f64, right as f64 / n.max(1) as f64, n)
+}
+
+#[test]
+fn two_talkers_are_tracked_from_the_rendered_audio() {
+    let scenario = two_talker_room();
+    for seed in [1, 2, 3] {
+        let (input, talkers) = replay_file(&scenario, seed, false);
+        let report = replay(ServerConfig::default(), input.as_slice(), std::io::sink()).unwrap();
+        assert_eq!(report.bad_lines, 0);
+        let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, &talkers);
+        println!(
+            "seed {seed}: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
+            100.0 * right
+        );
+        // Floors under today's figures (0.71-0.73 m, 38-39 %), far from the goal of 0.25 m and 80 %:
+        // they catch a chain gone worse.
+        assert!(ospa_xy <= 0.8, "mean OSPA(x, y) {ospa_xy:.3} m");
+        assert!(right >= 0.3, "count right in {:.0} %", 100.0 * right);
+    }
+}
