@@ -16,7 +16,7 @@ fn an_empty_table_gives_the_documented_defaults() {
     assert_eq!(
         config.ground,
         GroundRemoval::Ransac(RansacPlaneParams {
-            iterations: 100,
+            iterations: 400,
             distance_threshold: 0.15,
             max_tilt_deg: 15.0,
             min_inliers: 100,
@@ -119,6 +119,8 @@ fn range_image_and_object_tables_are_read() {
             value: 0.0
         }
     );
-    let typo = parse("[objects]\nbody_radus = 0.2\n").unwrap_err().to_string();
+    let typo = parse("[objects]\nbody_radus = 0.2\n")
+        .unwrap_err()
+        .to_string();
     assert!(typo.contains("body_radus"), "{typo}");
 }

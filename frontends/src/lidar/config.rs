@@ -26,7 +26,7 @@ pub enum SegmentationMethod {
 ///
 /// [ground]
 /// method = "ransac"            # "ransac" (default), "height" or "none"
-/// iterations = 100
+/// iterations = 400
 /// distance_threshold = 0.15    # metres
 /// max_tilt_deg = 15.0
 /// min_inliers = 100

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// ```toml
 /// [ground]
 /// method = "ransac"          # or "height", or "none"
-/// iterations = 100           # RANSAC fields; "height" takes max_ground_z instead
+/// iterations = 400           # RANSAC fields; "height" takes max_ground_z instead
 /// distance_threshold = 0.15
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

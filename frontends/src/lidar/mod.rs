@@ -39,6 +39,7 @@ mod measurement;
 mod objects;
 mod pcd;
 mod pcd_header;
+mod people_split;
 mod pipeline;
 mod point_cloud;
 mod range_image;

@@ -36,8 +36,10 @@ pub enum Estimate {
 /// body_radius = 0.17        # metres
 /// # head_height = 1.75      # metres above the ground; absent: the segment's highest point
 /// max_width = 1.2           # metres: wider segments are walls, cars, hedges
-/// min_top_height = 0.5      # metres above the ground: lower segments are kerbs, ground noise
+/// min_top_height = 0.8      # metres above the ground: lower segments are kerbs, legs, ground noise
 /// max_top_height = 2.2      # metres above the ground: taller ones are poles, walls, trees
+/// split_width = 0.6         # metres: wider segments may be several people side by side
+/// person_spacing = 0.3      # metres: two head tops at least this far apart are two people
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -53,12 +55,19 @@ pub struct ObjectConfig {
     pub head_height: Option<f64>,
     /// Segments wider than this (metres, horizontal extent along or across the ray) are not people. 1.2 m.
     pub max_width: f64,
-    /// Segments whose highest point is lower than this above the ground are not people. 0.5 m: a person 25 m
-    /// from a VLP-16 at 1.8 m is hit by its −2° ring only, 0.93 m up.
+    /// Segments whose highest point is lower than this above the ground are not people. 0.8 m: a person 25 m
+    /// from a VLP-16 at 1.8 m is hit by its −2° ring only, 0.93 m up; legs seen under an arm or a neighbour
+    /// reach 0.7 m.
     pub min_top_height: f64,
     /// Segments whose highest point is higher than this above the ground are not people (poles, walls).
     /// 2.2 m.
     pub max_top_height: f64,
+    /// A segment wider than this (metres) is looked at for several heads (people standing shoulder to shoulder
+    /// form one segment). 0.6 m: wider than one person's shoulders.
+    pub split_width: f64,
+    /// Head tops at least this far apart horizontally (metres) belong to different people. 0.3 m: closer than
+    /// two people's heads can be, farther than one head's points.
+    pub person_spacing: f64,
 }
 
 impl Default for ObjectConfig {
@@ -68,8 +77,10 @@ impl Default for ObjectConfig {
             body_radius: 0.17,
             head_height: None,
             max_width: 1.2,
-            min_top_height: 0.5,
+            min_top_height: 0.8,
             max_top_height: 2.2,
+            split_width: 0.6,
+            person_spacing: 0.3,
         }
     }
 }
@@ -82,6 +93,7 @@ impl ObjectConfig {
             max_width: f64::INFINITY,
             min_top_height: f64::NEG_INFINITY,
             max_top_height: f64::INFINITY,
+            split_width: f64::INFINITY,
             ..Self::default()
         }
     }
@@ -95,6 +107,12 @@ impl ObjectConfig {
             return Err(LidarConfigError::NotPositive {
                 name: "objects.body_radius",
                 value: self.body_radius,
+            });
+        }
+        if !(self.person_spacing.is_finite() && self.person_spacing > 0.0) {
+            return Err(LidarConfigError::NotPositive {
+                name: "objects.person_spacing",
+                value: self.person_spacing,
             });
         }
         if !(self.max_width > 0.0) {
@@ -170,7 +188,8 @@ pub fn detect_object(
     let up = ground.up;
     let base = ground.sensor_height.unwrap_or(0.0);
     let count = indices.len() as f64;
-    let (mut horizontal_sum, mut sum, mut top) = (Vector3::zeros(), Vector3::zeros(), f64::NEG_INFINITY);
+    let (mut horizontal_sum, mut sum, mut top) =
+        (Vector3::zeros(), Vector3::zeros(), f64::NEG_INFINITY);
     for &i in indices {
         let p = Vector3::from(points[i]);
         let along_up = up.dot(&p);
@@ -213,7 +232,11 @@ fn horizontal_extent(
     up: &Vector3<f64>,
     mean: &Vector3<f64>,
 ) -> f64 {
-    let along = if mean.norm() > 0.0 { mean.normalize() } else { up.cross(&Vector3::x()).normalize() };
+    let along = if mean.norm() > 0.0 {
+        mean.normalize()
+    } else {
+        up.cross(&Vector3::x()).normalize()
+    };
     let across = up.cross(&along);
     let mut bounds = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
     for &i in indices {
@@ -224,7 +247,10 @@ fn horizontal_extent(
             bound[1] = bound[1].max(value);
         }
     }
-    bounds.iter().map(|[low, high]| high - low).fold(0.0, f64::max)
+    bounds
+        .iter()
+        .map(|[low, high]| high - low)
+        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
@@ -251,28 +277,46 @@ mod tests {
             }
         }
         let indices: Vec<usize> = (0..points.len()).collect();
-        let ground = GroundFrame { up: Vector3::z(), sensor_height: Some(1.8) };
-        let config = ObjectConfig { body_radius: radius, ..ObjectConfig::default() };
+        let ground = GroundFrame {
+            up: Vector3::z(),
+            sensor_height: Some(1.8),
+        };
+        let config = ObjectConfig {
+            body_radius: radius,
+            ..ObjectConfig::default()
+        };
         let object = detect_object(&points, (0, &indices), &ground, &config).unwrap();
         let (centre, top, width) = (object.centre, object.top_height, object.width);
         println!("centre {centre:?}, top {top:.2}, width {width:.3}");
         assert!((centre[0] - 10.0).abs() < 0.02, "{centre:?}");
         assert!(centre[1].abs() < 1e-9);
         assert!((top - 2.1).abs() < 1e-12 && (centre[2] - 0.3).abs() < 1e-12);
-        let pole = ObjectConfig { max_top_height: 2.0, ..config.clone() };
+        let pole = ObjectConfig {
+            max_top_height: 2.0,
+            ..config.clone()
+        };
         assert!(detect_object(&points, (0, &indices), &ground, &pole).is_none());
-        let narrow = ObjectConfig { max_width: 0.2, ..config };
+        let narrow = ObjectConfig {
+            max_width: 0.2,
+            ..config
+        };
         assert!(detect_object(&points, (0, &indices), &ground, &narrow).is_none());
     }
 
     #[test]
     fn the_ground_frame_points_up_towards_the_sensor() {
         // A ceiling sensor upside down: the floor is the plane z = 2.5 of its frame.
-        let floor = Plane { normal: Vector3::z(), offset: -2.5 };
+        let floor = Plane {
+            normal: Vector3::z(),
+            offset: -2.5,
+        };
         let frame = GroundFrame::new(Some(&floor));
         assert_eq!(frame.up, -Vector3::z());
         assert_eq!(frame.sensor_height, Some(2.5));
-        let level = GroundFrame::new(Some(&Plane { normal: Vector3::z(), offset: 1.8 }));
+        let level = GroundFrame::new(Some(&Plane {
+            normal: Vector3::z(),
+            offset: 1.8,
+        }));
         assert_eq!((level.up, level.sensor_height), (Vector3::z(), Some(1.8)));
     }
 }

@@ -6,6 +6,7 @@ use super::config::{LidarConfig, SegmentationMethod};
 use super::error::LidarConfigError;
 use super::measurement::point_to_measurement;
 use super::objects::{detect_object, DetectedObject, GroundFrame};
+use super::people_split::split_people;
 use super::point_cloud::PointCloud;
 use super::range_image::RangeImage;
 use super::range_segmentation::segment_range_image;
@@ -67,10 +68,16 @@ impl LidarPipeline {
         let ground_points = ground.iter().filter(|&&is_ground| is_ground).count();
         let (segments, range_image) = self.segments(&points, &ground);
         let frame = GroundFrame::new(plane.as_ref());
+        let segments: Vec<Vec<usize>> = segments
+            .iter()
+            .flat_map(|indices| split_people(&points, indices, &frame, &self.config.objects))
+            .collect();
         let objects = segments
             .iter()
             .enumerate()
-            .filter_map(|(k, indices)| detect_object(&points, (k, indices), &frame, &self.config.objects))
+            .filter_map(|(k, indices)| {
+                detect_object(&points, (k, indices), &frame, &self.config.objects)
+            })
             .collect();
         let clusters = segments
             .into_iter()
@@ -93,14 +100,23 @@ impl LidarPipeline {
         let objects: Vec<bool> = ground.iter().map(|is_ground| !is_ground).collect();
         if self.config.segmentation == SegmentationMethod::RangeImage {
             if let Some(image) = RangeImage::build(points, &objects, &self.config.range_image) {
-                return (segment_range_image(&image, points, &self.config.range_image), true);
+                return (
+                    segment_range_image(&image, points, &self.config.range_image),
+                    true,
+                );
             }
         }
         let object_index: Vec<usize> = (0..points.len()).filter(|&i| objects[i]).collect();
         let object_points: Vec<[f64; 3]> = object_index.iter().map(|&i| points[i]).collect();
         let clusters = euclidean_clusters(&object_points, &self.config.clustering)
             .into_iter()
-            .map(|cluster| cluster.indices.into_iter().map(|i| object_index[i]).collect())
+            .map(|cluster| {
+                cluster
+                    .indices
+                    .into_iter()
+                    .map(|i| object_index[i])
+                    .collect()
+            })
             .collect();
         (clusters, false)
     }

@@ -137,7 +137,8 @@ impl RangeImage {
                 continue;
             };
             let azimuth = point[1].atan2(point[0]);
-            let column = (((azimuth + PI) / config.azimuth_step_deg.to_radians()) as usize) % columns;
+            let column =
+                (((azimuth + PI) / config.azimuth_step_deg.to_radians()) as usize) % columns;
             let cell = ring * columns + column;
             let occupant = image.cells[cell];
             if occupant == EMPTY {
@@ -164,11 +165,19 @@ fn ring_bounds(
         let mut beams = config.beams_deg.clone();
         beams.sort_by(f64::total_cmp);
         let half = |k: usize| {
-            let gap_below = if k > 0 { beams[k] - beams[k - 1] } else { f64::INFINITY };
+            let gap_below = if k > 0 {
+                beams[k] - beams[k - 1]
+            } else {
+                f64::INFINITY
+            };
             let gap_above = beams.get(k + 1).map_or(f64::INFINITY, |b| b - beams[k]);
             0.5 * gap_below.min(gap_above)
         };
-        return Some((0..beams.len()).map(|k| [beams[k] - half(k), beams[k] + half(k)]).collect());
+        return Some(
+            (0..beams.len())
+                .map(|k| [beams[k] - half(k), beams[k] + half(k)])
+                .collect(),
+        );
     }
     let mut used: Vec<f64> = elevations
         .iter()
@@ -179,7 +188,10 @@ fn ring_bounds(
     used.sort_by(f64::total_cmp);
     let mut rings: Vec<[f64; 2]> = Vec::new();
     for elevation in used {
-        if let Some(ring) = rings.last_mut().filter(|r| elevation - r[1] <= config.ring_gap_deg) {
+        if let Some(ring) = rings
+            .last_mut()
+            .filter(|r| elevation - r[1] <= config.ring_gap_deg)
+        {
             ring[1] = elevation;
         } else if rings.len() == config.max_rings {
             return None;
@@ -206,7 +218,11 @@ mod tests {
     /// A point at `range` along (elevation, azimuth) in degrees.
     fn ray(range: f64, elevation: f64, azimuth: f64) -> [f64; 3] {
         let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-        [range * e.cos() * a.cos(), range * e.cos() * a.sin(), range * e.sin()]
+        [
+            range * e.cos() * a.cos(),
+            range * e.cos() * a.sin(),
+            range * e.sin(),
+        ]
     }
 
     #[test]
@@ -235,14 +251,22 @@ mod tests {
             beams_deg: vec![2.0, -2.0, 0.0],
             ..RangeImageConfig::default()
         };
-        let points = vec![ray(5.0, 0.3, 10.1), ray(5.0, 1.7, 10.1), ray(5.0, 7.0, 10.1)];
+        let points = vec![
+            ray(5.0, 0.3, 10.1),
+            ray(5.0, 1.7, 10.1),
+            ray(5.0, 7.0, 10.1),
+        ];
         let image = RangeImage::build(&points, &[true; 3], &config).unwrap();
         assert_eq!(image.rings, 3);
         let column = 950;
         assert_eq!(image.cells[1800 + column], 0);
         assert_eq!(image.cells[2 * 1800 + column], 1);
         assert_eq!(image.cells.iter().filter(|&&c| c != EMPTY).count(), 2);
-        let scattered: Vec<[f64; 3]> = (0..300).map(|k| ray(5.0, k as f64 * 0.3 - 45.0, 0.0)).collect();
-        assert!(RangeImage::build(&scattered, &[true; 300], &RangeImageConfig::default()).is_none());
+        let scattered: Vec<[f64; 3]> = (0..300)
+            .map(|k| ray(5.0, k as f64 * 0.3 - 45.0, 0.0))
+            .collect();
+        assert!(
+            RangeImage::build(&scattered, &[true; 300], &RangeImageConfig::default()).is_none()
+        );
     }
 }

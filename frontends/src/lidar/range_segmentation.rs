@@ -68,7 +68,10 @@ fn neighbours(image: &RangeImage, cell: usize, max_gap: usize) -> impl Iterator<
             .map(|r| r as usize * columns + column)
             .find(|&c| image.cells[c] != EMPTY)
     });
-    along_ring.chain(across_rings).flatten().filter(move |&c| c != cell)
+    along_ring
+        .chain(across_rings)
+        .flatten()
+        .filter(move |&c| c != cell)
 }
 
 fn norm(point: &[f64; 3]) -> f64 {
@@ -82,7 +85,11 @@ mod tests {
     /// A point at `range` along (elevation, azimuth) in degrees.
     fn ray(range: f64, elevation: f64, azimuth: f64) -> [f64; 3] {
         let (e, a) = (elevation.to_radians(), azimuth.to_radians());
-        [range * e.cos() * a.cos(), range * e.cos() * a.sin(), range * e.sin()]
+        [
+            range * e.cos() * a.cos(),
+            range * e.cos() * a.sin(),
+            range * e.sin(),
+        ]
     }
 
     #[test]
@@ -91,7 +98,11 @@ mod tests {
         // A person-sized patch 20 m away: 4 rings 2° apart (0.7 m in space), 5 columns.
         for ring in 0..4 {
             for column in 0..5 {
-                points.push(ray(20.0 + 0.02 * column as f64, -5.0 + 2.0 * ring as f64, 0.1 + 0.2 * column as f64));
+                points.push(ray(
+                    20.0 + 0.02 * column as f64,
+                    -5.0 + 2.0 * ring as f64,
+                    0.1 + 0.2 * column as f64,
+                ));
             }
         }
         // A wall 1 m behind, to the side, touching the patch in the grid.

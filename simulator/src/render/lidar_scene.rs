@@ -71,8 +71,11 @@ impl LidarScene {
         for pole in &self.poles {
             let cylinder = Cylinder {
                 centre: pole.centre,
-                axes: [[pole.radius, 0.0], [0.0, pole.radius]],
-                z: [self.floor_z.unwrap_or(0.0), self.floor_z.unwrap_or(0.0) + pole.height],
+                axes: [[1.0 / pole.radius, 0.0], [0.0, 1.0 / pole.radius]],
+                z: [
+                    self.floor_z.unwrap_or(0.0),
+                    self.floor_z.unwrap_or(0.0) + pole.height,
+                ],
             };
             nearest = nearest.min(cylinder.hit(origin, direction));
         }
