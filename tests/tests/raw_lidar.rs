@@ -232,7 +232,7 @@ fn room_tracks_from_raw_lidar_scans() {
         100.0 * worst_right
     );
     // The goal is OSPA ≤ 0.15 m with the count right in ≥ 90 % of the sets; today's figures are 0.145–0.218 m
-    // and 54–73 % (the front end finds 87–92 % of heads with 0.15–0.25 extra objects per scan, mostly when
+    // and 54–75 % (the front end finds 87–92 % of heads with 0.15–0.25 extra objects per scan, mostly when
     // people stand shoulder to shoulder or one hides another's head). These floors catch a regression.
     assert!(worst_ospa <= 0.25, "mean OSPA {worst_ospa:.3} m");
     assert!(

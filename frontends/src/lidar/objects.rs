@@ -115,7 +115,7 @@ impl ObjectConfig {
                 value: self.person_spacing,
             });
         }
-        if !(self.max_width > 0.0) {
+        if self.max_width.is_nan() || self.max_width <= 0.0 {
             return Err(LidarConfigError::NotPositive {
                 name: "objects.max_width",
                 value: self.max_width,

@@ -8,6 +8,8 @@ use nalgebra::Vector3;
 
 /// At most this many heads are looked for in one segment (a wall is not a crowd).
 const MAX_HEADS: usize = 16;
+/// The part of a head below its top that locates it, m: about a head's radius.
+const HEAD_DEPTH_M: f64 = 0.12;
 
 /// The segment `indices` of `points` as one group per person (its point indices); the segment unchanged when it
 /// is no wider than `config.split_width` or holds one head.
@@ -31,7 +33,7 @@ pub(super) fn split_people(
     }
     let mut order: Vec<usize> = (0..placed.len()).collect();
     order.sort_by(|&a, &b| placed[b].1.total_cmp(&placed[a].1));
-    let mut heads: Vec<Vector3<f64>> = Vec::new();
+    let mut heads: Vec<(Vector3<f64>, f64)> = Vec::new();
     for &k in &order {
         let (position, height) = &placed[k];
         if heads.len() == MAX_HEADS || *height < config.min_top_height {
@@ -39,14 +41,18 @@ pub(super) fn split_people(
         }
         if heads
             .iter()
-            .all(|h| (h - position).norm() > config.person_spacing)
+            .all(|(h, _)| (h - position).norm() > config.person_spacing)
         {
-            heads.push(*position);
+            heads.push((*position, *height));
         }
     }
     if heads.len() < 2 {
         return vec![indices.to_vec()];
     }
+    let heads: Vec<Vector3<f64>> = heads
+        .iter()
+        .map(|seed| head_centre(&placed, seed, config))
+        .collect();
     let mut groups = vec![Vec::new(); heads.len()];
     for (k, (position, _)) in placed.iter().enumerate() {
         let nearest = (0..heads.len())
@@ -59,6 +65,25 @@ pub(super) fn split_people(
         groups[nearest].push(indices[k]);
     }
     groups
+}
+
+/// The horizontal centre of the head whose highest point is `seed`: the mean of the points within half the
+/// person spacing of it and at most [`HEAD_DEPTH_M`] below it (the seed is the cap's edge nearest the sensor,
+/// not the head's middle).
+fn head_centre(
+    placed: &[(Vector3<f64>, f64)],
+    (seed, top): &(Vector3<f64>, f64),
+    config: &ObjectConfig,
+) -> Vector3<f64> {
+    let (mut sum, mut count) = (Vector3::zeros(), 0.0);
+    for (position, height) in placed {
+        if *height >= top - HEAD_DEPTH_M && (position - seed).norm() <= 0.5 * config.person_spacing
+        {
+            sum += position;
+            count += 1.0;
+        }
+    }
+    sum / count
 }
 
 /// The largest distance between the first point and any other, horizontally: a cheap bound on the width.
@@ -78,11 +103,11 @@ mod tests {
 
     #[test]
     fn two_heads_on_touching_bodies_make_two_groups() {
-        // Seen from a level frame: two columns of points 0.4 m apart, tops at 1.75 and 1.6 m above the ground.
+        // Seen from a level frame: two columns of points 0.45 m apart, tops at 1.75 and 1.6 m above the ground.
         let mut points = Vec::new();
-        for (x, top) in [(5.0, 1.75), (5.4, 1.6)] {
+        for (x, top) in [(5.0, 1.75), (5.45, 1.6)] {
             for k in 0..10 {
-                for dx in [-0.15, -0.05, 0.05, 0.15] {
+                for dx in [-0.1, -0.03, 0.03, 0.1] {
                     points.push([x + dx, 0.0, top - 1.8 - 0.1 * k as f64]);
                 }
             }

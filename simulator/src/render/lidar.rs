@@ -199,7 +199,7 @@ pub fn render_lidar_scan(
 fn sensor_rotation(model: &LidarModel) -> Result<UnitQuaternion<f64>, ScenarioError> {
     let [w, x, y, z] = model.orientation;
     let quaternion = Quaternion::new(w, x, y, z);
-    if !(quaternion.norm() > 0.5) {
+    if quaternion.norm().is_nan() || quaternion.norm() <= 0.5 {
         return Err(invalid("orientation", "not a unit quaternion"));
     }
     Ok(UnitQuaternion::from_quaternion(quaternion))
