@@ -1,10 +1,10 @@
-//! `edge-agent lidar`: a directory of scans → ground removal and clustering → one set of cluster centroids
-//! `[range, azimuth, elevation]` (sensor frame) per scan.
+//! `edge-agent lidar`: a directory of scans → ground removal, range-image segmentation, person-sized objects →
+//! one set of object centres `[range, azimuth, elevation]` (sensor frame) per scan.
 //!
 //! Scans are `.pcd` or KITTI `.bin` files taken in file-name order, scan i stamped `start + i / rate`; live
 //! scans come from Velodyne packets over UDP (`velodyne_input.rs`) or from a followed directory
 //! (`scan_follow.rs`), stamped on arrival (`lidar_live.rs`).
-//! Centroids outside the descriptor's measurement region (beyond `max_range`, or outside `elevation_limits`)
+//! Centres outside the descriptor's measurement region (beyond `max_range`, or outside `elevation_limits`)
 //! are left out: the descriptor says the sensor does not see there, and the server's clutter density
 //! assumes every measurement lies inside that region.
 

@@ -261,7 +261,7 @@ fn lidar_scene(person_x: f32) -> frontends::lidar::PointCloud {
 }
 
 #[test]
-fn lidar_scans_become_cluster_centroids_inside_the_sensor_region() {
+fn lidar_scans_become_person_centres_inside_the_sensor_region() {
     let dir = tempfile::tempdir().expect("temp dir");
     let descriptor = dir.path().join("lidar.toml");
     write(
@@ -314,7 +314,9 @@ fn lidar_scans_become_cluster_centroids_inside_the_sensor_region() {
             1,
             "the far object is outside max_range: {set:?}"
         );
-        let (cx, cz) = (x + 0.04, -0.5);
+        // The front end reports a person's centre, not the visible points' mean: the centroid pushed back
+        // along the ray by (π/4) × the default body radius 0.17 m, at the column's highest point (0.2 m).
+        let (cx, cz) = (x + 0.04 + std::f64::consts::FRAC_PI_4 * 0.17, 0.2);
         let m = &set.measurements[0];
         assert!((m[0] - f64::hypot(cx, cz)).abs() < 0.05, "range {m:?}");
         assert!(m[1].abs() < 0.05, "azimuth {m:?}");

@@ -1,8 +1,8 @@
 //! LIDAR pipeline configuration: documented defaults, every ground method from TOML, and rejected mistakes.
 
 use frontends::lidar::{
-    ClusteringConfig, GroundRemoval, HeightThreshold, LidarConfig, LidarConfigError, LidarPipeline,
-    RansacPlaneParams,
+    ClusteringConfig, Estimate, GroundRemoval, HeightThreshold, LidarConfig, LidarConfigError,
+    LidarPipeline, ObjectConfig, RansacPlaneParams, SegmentationMethod,
 };
 
 fn parse(text: &str) -> Result<LidarConfig, toml::de::Error> {
@@ -16,7 +16,7 @@ fn an_empty_table_gives_the_documented_defaults() {
     assert_eq!(
         config.ground,
         GroundRemoval::Ransac(RansacPlaneParams {
-            iterations: 100,
+            iterations: 400,
             distance_threshold: 0.15,
             max_tilt_deg: 15.0,
             min_inliers: 100,
@@ -94,4 +94,33 @@ fn unusable_values_are_rejected_by_the_pipeline() {
     assert_eq!(message, "max_points (20) is below min_points (50)");
     let no_iterations = parse("[ground]\nmethod = \"ransac\"\niterations = 0\n").unwrap();
     assert!(LidarPipeline::new(no_iterations).is_err());
+}
+
+#[test]
+fn range_image_and_object_tables_are_read() {
+    let config = parse(
+        "segmentation = \"euclidean\"\n[range_image]\nbeams_deg = [-1.0, 1.0]\nmax_range_jump = 0.4\n\
+         [objects]\nestimate = \"centroid\"\nhead_height = 1.7\nmax_top_height = 2.5\n",
+    )
+    .unwrap();
+    assert_eq!(config.segmentation, SegmentationMethod::Euclidean);
+    assert_eq!(config.range_image.beams_deg, vec![-1.0, 1.0]);
+    assert_eq!(config.range_image.max_range_jump, 0.4);
+    assert_eq!(config.range_image.min_points, 4);
+    assert_eq!(config.objects.estimate, Estimate::Centroid);
+    assert_eq!(config.objects.head_height, Some(1.7));
+    assert_eq!(config.objects.max_top_height, 2.5);
+    assert_eq!(config.objects.max_width, ObjectConfig::default().max_width);
+    let jump = parse("[range_image]\nmax_range_jump = 0.0\n").unwrap();
+    assert_eq!(
+        LidarPipeline::new(jump).unwrap_err(),
+        LidarConfigError::NotPositive {
+            name: "range_image.max_range_jump",
+            value: 0.0
+        }
+    );
+    let typo = parse("[objects]\nbody_radus = 0.2\n")
+        .unwrap_err()
+        .to_string();
+    assert!(typo.contains("body_radus"), "{typo}");
 }

@@ -1,7 +1,8 @@
 //! Ground removal: which points of a scan belong to the ground and must not be clustered into objects.
 
 use super::error::LidarConfigError;
-use super::ransac_plane::{fit_ground_plane, RansacPlaneParams};
+use super::ransac_plane::{fit_ground_plane, Plane, RansacPlaneParams};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// How the ground is told apart from objects. In a configuration file the variant is chosen by `method`:
@@ -9,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// ```toml
 /// [ground]
 /// method = "ransac"          # or "height", or "none"
-/// iterations = 100           # RANSAC fields; "height" takes max_ground_z instead
+/// iterations = 400           # RANSAC fields; "height" takes max_ground_z instead
 /// distance_threshold = 0.15
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -91,15 +92,31 @@ impl GroundRemoval {
 
     /// Marks each point `true` if it is ground. Points are in the sensor frame (metres).
     pub fn ground_mask(&self, points: &[[f64; 3]]) -> Vec<bool> {
+        self.classify(points).0
+    }
+
+    /// The ground mask and the ground plane: RANSAC's fit, the horizontal plane at `max_ground_z` for the
+    /// height threshold (so heights above it are measured from the threshold), none for `none` or when RANSAC
+    /// finds no plane.
+    pub fn classify(&self, points: &[[f64; 3]]) -> (Vec<bool>, Option<Plane>) {
         match self {
-            Self::None => vec![false; points.len()],
-            Self::Height(height) => points.iter().map(|p| p[2] < height.max_ground_z).collect(),
+            Self::None => (vec![false; points.len()], None),
+            Self::Height(height) => (
+                points.iter().map(|p| p[2] < height.max_ground_z).collect(),
+                Some(Plane {
+                    normal: Vector3::z(),
+                    offset: -height.max_ground_z,
+                }),
+            ),
             Self::Ransac(ransac) => match fit_ground_plane(points, ransac) {
-                Some(fit) => points
-                    .iter()
-                    .map(|p| fit.plane.signed_distance(p).abs() <= ransac.distance_threshold)
-                    .collect(),
-                None => vec![false; points.len()],
+                Some(fit) => (
+                    points
+                        .iter()
+                        .map(|p| fit.plane.signed_distance(p).abs() <= ransac.distance_threshold)
+                        .collect(),
+                    Some(fit.plane),
+                ),
+                None => (vec![false; points.len()], None),
             },
         }
     }

@@ -1,17 +1,28 @@
-//! The LIDAR pipeline: point cloud → ground removal → Euclidean clusters → centroid measurements.
+//! The LIDAR pipeline: point cloud → ground removal → segments (range image, or Euclidean clusters) →
+//! person-sized objects → their centres as measurements.
 
 use super::clustering::{euclidean_clusters, PointCluster};
-use super::config::LidarConfig;
+use super::config::{LidarConfig, SegmentationMethod};
 use super::error::LidarConfigError;
 use super::measurement::point_to_measurement;
+use super::objects::{detect_object, DetectedObject, GroundFrame};
+use super::people_split::split_people;
 use super::point_cloud::PointCloud;
+use super::range_image::RangeImage;
+use super::range_segmentation::segment_range_image;
 
 /// What the pipeline made of one scan, for inspection and tests; [`LidarPipeline::measurements`] keeps only the
-/// centroids.
+/// objects' centres.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segmentation {
-    /// Object clusters; their `indices` point into the input cloud's `points`.
+    /// Segments (of the range image, or Euclidean clusters); their `indices` point into the input cloud's
+    /// `points`, their `centroid` is the mean of the visible points.
     pub clusters: Vec<PointCluster>,
+    /// The segments that passed the object limits, in the order of `clusters`.
+    pub objects: Vec<DetectedObject>,
+    /// Whether the range image was used (`false`: Euclidean clustering, configured or as the fallback for a
+    /// cloud without ring structure).
+    pub range_image: bool,
     /// Number of points taken for ground.
     pub ground_points: usize,
     /// Number of points skipped as "no return": non-finite coordinates, or exactly the sensor origin (which some
@@ -19,7 +30,7 @@ pub struct Segmentation {
     pub invalid_points: usize,
 }
 
-/// Turns LIDAR scans into `[range, azimuth, elevation]` measurements of object centroids in the sensor frame.
+/// Turns LIDAR scans into `[range, azimuth, elevation]` measurements of objects in the sensor frame.
 /// Deterministic: the same scan and configuration always give the same measurements.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LidarPipeline {
@@ -41,7 +52,7 @@ impl LidarPipeline {
         &self.config
     }
 
-    /// Removes the ground and clusters the remaining points.
+    /// Removes the ground, segments the remaining points and picks out the objects.
     pub fn segment(&self, cloud: &PointCloud) -> Segmentation {
         let mut original_index = Vec::with_capacity(cloud.points.len());
         let mut points = Vec::with_capacity(cloud.points.len());
@@ -53,39 +64,83 @@ impl LidarPipeline {
             }
         }
         let invalid_points = cloud.points.len() - points.len();
-
-        let ground = self.config.ground.ground_mask(&points);
+        let (ground, plane) = self.config.ground.classify(&points);
         let ground_points = ground.iter().filter(|&&is_ground| is_ground).count();
-        let (object_points, object_index): (Vec<[f64; 3]>, Vec<usize>) = points
+        let (segments, range_image) = self.segments(&points, &ground);
+        let frame = GroundFrame::new(plane.as_ref());
+        let segments: Vec<Vec<usize>> = segments
             .iter()
-            .zip(&original_index)
-            .zip(&ground)
-            .filter(|(_, &is_ground)| !is_ground)
-            .map(|((point, &index), _)| (*point, index))
-            .unzip();
-
-        let mut clusters = euclidean_clusters(&object_points, &self.config.clustering);
-        for cluster in &mut clusters {
-            for index in &mut cluster.indices {
-                *index = object_index[*index];
-            }
-        }
+            .flat_map(|indices| split_people(&points, indices, &frame, &self.config.objects))
+            .collect();
+        let objects = segments
+            .iter()
+            .enumerate()
+            .filter_map(|(k, indices)| {
+                detect_object(&points, (k, indices), &frame, &self.config.objects)
+            })
+            .collect();
+        let clusters = segments
+            .into_iter()
+            .map(|indices| PointCluster {
+                centroid: centroid(&points, &indices),
+                indices: indices.into_iter().map(|i| original_index[i]).collect(),
+            })
+            .collect();
         Segmentation {
             clusters,
+            objects,
+            range_image,
             ground_points,
             invalid_points,
         }
     }
 
-    /// One `[range, azimuth, elevation]` measurement per object cluster centroid (see
-    /// [`super::point_to_measurement`]), in the order of [`Self::segment`]'s clusters.
+    /// The segments of the non-ground points (indices into `points`) and whether the range image made them.
+    fn segments(&self, points: &[[f64; 3]], ground: &[bool]) -> (Vec<Vec<usize>>, bool) {
+        let objects: Vec<bool> = ground.iter().map(|is_ground| !is_ground).collect();
+        if self.config.segmentation == SegmentationMethod::RangeImage {
+            if let Some(image) = RangeImage::build(points, &objects, &self.config.range_image) {
+                return (
+                    segment_range_image(&image, points, &self.config.range_image),
+                    true,
+                );
+            }
+        }
+        let object_index: Vec<usize> = (0..points.len()).filter(|&i| objects[i]).collect();
+        let object_points: Vec<[f64; 3]> = object_index.iter().map(|&i| points[i]).collect();
+        let clusters = euclidean_clusters(&object_points, &self.config.clustering)
+            .into_iter()
+            .map(|cluster| {
+                cluster
+                    .indices
+                    .into_iter()
+                    .map(|i| object_index[i])
+                    .collect()
+            })
+            .collect();
+        (clusters, false)
+    }
+
+    /// One `[range, azimuth, elevation]` measurement per object (see [`super::point_to_measurement`]), in the
+    /// order of [`Self::segment`]'s objects.
     pub fn measurements(&self, cloud: &PointCloud) -> Vec<[f64; 3]> {
         self.segment(cloud)
-            .clusters
+            .objects
             .iter()
-            .map(|cluster| point_to_measurement(cluster.centroid))
+            .map(|object| point_to_measurement(object.centre))
             .collect()
     }
+}
+
+/// Mean of the indexed points.
+fn centroid(points: &[[f64; 3]], indices: &[usize]) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    for &index in indices {
+        for (axis, total) in sum.iter_mut().enumerate() {
+            *total += points[index][axis];
+        }
+    }
+    sum.map(|total| total / indices.len().max(1) as f64)
 }
 
 #[cfg(test)]
@@ -101,19 +156,20 @@ mod tests {
             points.push([10.0, 0.1 * (k % 4) as f32, 0.1 * (k / 4) as f32]);
         }
         let cloud = PointCloud::from_points(points);
-        let pipeline = LidarPipeline::new(LidarConfig {
-            ground: GroundRemoval::Height(HeightThreshold { max_ground_z: -1.0 }),
-            clustering: ClusteringConfig {
+        let pipeline = LidarPipeline::new(LidarConfig::euclidean_centroids(
+            GroundRemoval::Height(HeightThreshold { max_ground_z: -1.0 }),
+            ClusteringConfig {
                 tolerance: 0.15,
                 min_points: 4,
                 max_points: 100,
             },
-        })
+        ))
         .unwrap();
         let segmentation = pipeline.segment(&cloud);
         assert_eq!(segmentation.invalid_points, 2);
         assert_eq!(segmentation.ground_points, 1);
         assert_eq!(segmentation.clusters.len(), 1);
+        assert!(!segmentation.range_image);
         let mut indices = segmentation.clusters[0].indices.clone();
         indices.sort_unstable();
         assert_eq!(indices, (3..19).collect::<Vec<_>>());

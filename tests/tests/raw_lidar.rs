@@ -1,0 +1,366 @@
+//! Raw LIDAR end to end: scans ray-cast from the scenario's truth (`simulator::render::lidar`), the
+//! LIDAR front end as `edge-agent lidar` runs it (its default configuration, the descriptor's region
+//! filter, one set per scan), the server's offline replay, and OSPA against the truth. Also the
+//! front end alone on an outdoor scene: a level VLP-16 1.8 m up, walkers at 5–25 m and two poles.
+
+use std::time::Instant;
+
+use frontends::lidar::{LidarConfig, LidarPipeline, PointCloud};
+use fusion_server::config::ServerConfig;
+use fusion_server::replay::replay;
+use protocol::{LidarModel, MeasurementSet, ReplayLine, SensorModel, TruthSet};
+use simulator::render::{render_lidar_scan, BeamLayout, LidarScene, Pole, ScanPattern};
+use simulator::{Scenario, Simulation};
+
+/// Unix time of the run's start.
+const START: f64 = 1_763_700_000.0;
+/// The room's scans used: everyone is in by 6 s.
+const FIRST_S: f64 = 6.0;
+const LAST_S: f64 = 30.0;
+/// Track sets scored from this long after the first scan (the tracks' confirmation).
+const SETTLE_S: f64 = 2.0;
+
+/// The room's ceiling LIDAR: 40 beams over its elevation limits, 0.2° azimuth steps.
+fn ceiling_pattern(model: &LidarModel) -> ScanPattern {
+    ScanPattern::new(BeamLayout::covering(model.elevation_limits, 40))
+}
+
+fn lidar_model(scenario: &Scenario, sensor: &str) -> LidarModel {
+    let (_, spec) = scenario.sensor(sensor).unwrap();
+    let SensorModel::Lidar(model) = &spec.model else {
+        panic!("{sensor} is a LIDAR")
+    };
+    model.clone()
+}
+
+/// What `edge-agent lidar` keeps of a scan's measurements: those inside the descriptor's region.
+fn in_region(model: &LidarModel, [range, _, elevation]: &[f64; 3]) -> bool {
+    let [low, high] = model.elevation_limits;
+    *range <= model.max_range && (low..=high).contains(elevation)
+}
+
+/// `v` rotated by the unit quaternion `[w, x, y, z]`: v + 2w (u × v) + 2 u × (u × v).
+fn rotate([w, x, y, z]: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let u = [x, y, z];
+    let uv = cross(u, v);
+    let uuv = cross(u, uv);
+    [0, 1, 2].map(|i| v[i] + 2.0 * (w * uv[i] + uuv[i]))
+}
+
+/// Sensor-frame point of a world point (the descriptor's quaternion rotates sensor into world).
+fn to_sensor(model: &LidarModel, world: [f64; 3]) -> [f64; 3] {
+    let [w, x, y, z] = model.orientation;
+    let offset = [0, 1, 2].map(|i| world[i] - model.position[i]);
+    rotate([w, -x, -y, -z], offset)
+}
+
+/// Sensor-frame direction of the world's up.
+fn sensor_up(model: &LidarModel) -> [f64; 3] {
+    let [w, x, y, z] = model.orientation;
+    rotate([w, -x, -y, -z], [0.0, 0.0, 1.0])
+}
+
+/// The heads of the targets present at `t`, in the sensor frame.
+fn heads(scenario: &Scenario, model: &LidarModel, seed: u64, t: f64) -> Vec<[f64; 3]> {
+    scenario
+        .targets
+        .iter()
+        .filter(|target| target.is_present(t))
+        .map(|target| to_sensor(model, target.position_at(seed, t)))
+        .collect()
+}
+
+/// Front-end figures over the scans: objects matched to a truth head within 0.5 m.
+#[derive(Debug, Default)]
+struct FrontEndFigures {
+    scans: usize,
+    heads: usize,
+    matched: usize,
+    extra: usize,
+    horizontal_error: f64,
+    height_error: f64,
+    render_s: f64,
+    frontend_s: f64,
+}
+
+/// The room run with `seed` through the front end: the replay lines (descriptor, sets, truth) and figures.
+fn room_lines(seed: u64) -> (Vec<ReplayLine>, FrontEndFigures) {
+    let mut scenario = simulator::default_room();
+    scenario.start = Some(START);
+    let simulation = Simulation::new(scenario.clone(), seed).unwrap();
+    let (index, spec) = scenario.sensor("lidar").unwrap();
+    let model = lidar_model(&scenario, "lidar");
+    let descriptor = simulation.descriptors()[index].clone();
+    let pattern = ceiling_pattern(&model);
+    let scene = LidarScene::default_room();
+    let pipeline = LidarPipeline::new(LidarConfig::default()).unwrap();
+    let mut figures = FrontEndFigures::default();
+    let mut timed: Vec<(f64, ReplayLine)> = Vec::new();
+    for k in 0..spec.frame_count(LAST_S) {
+        let t = spec.frame_time(k);
+        if t < FIRST_S {
+            continue;
+        }
+        let clock = Instant::now();
+        let scan = render_lidar_scan(&scenario, "lidar", &scene, &pattern, seed, t).unwrap();
+        figures.render_s += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let cloud = PointCloud::from_points(scan.points());
+        let segmentation = pipeline.segment(&cloud);
+        let measurements: Vec<Vec<f64>> = pipeline
+            .measurements(&cloud)
+            .iter()
+            .filter(|m| in_region(&model, m))
+            .map(|m| m.to_vec())
+            .collect();
+        figures.frontend_s += clock.elapsed().as_secs_f64();
+        let heads = heads(&scenario, &model, seed, t);
+        score_objects(
+            &heads,
+            &segmentation
+                .objects
+                .iter()
+                .map(|o| o.centre)
+                .collect::<Vec<_>>(),
+            &model,
+            &mut figures,
+        );
+        let set = MeasurementSet::new(descriptor.sensor.clone(), k, START + t, measurements);
+        timed.push((START + t, ReplayLine::Measurements(set)));
+    }
+    for k in 0..scenario.truth_count(LAST_S) {
+        let truth: TruthSet = simulation.truth_set(k);
+        if truth.stamp >= START + FIRST_S {
+            timed.push((truth.stamp, ReplayLine::Truth(truth)));
+        }
+    }
+    timed.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut lines = vec![ReplayLine::Descriptor(descriptor)];
+    lines.extend(timed.into_iter().map(|(_, line)| line));
+    (lines, figures)
+}
+
+/// Matches each truth head (sensor frame) to the nearest object within 0.5 m; accumulates the errors
+/// in the ground's frame (world z is the sensor frame's `up` of the model).
+fn score_objects(
+    heads: &[[f64; 3]],
+    objects: &[[f64; 3]],
+    model: &LidarModel,
+    figures: &mut FrontEndFigures,
+) {
+    let up = sensor_up(model);
+    figures.scans += 1;
+    figures.heads += heads.len();
+    let mut used = vec![false; objects.len()];
+    let norm = |v: [f64; 3]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
+    for head in heads {
+        let nearest = objects
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !used[*i])
+            .map(|(i, o)| (i, [0, 1, 2].map(|a| o[a] - head[a])))
+            .min_by(|a, b| norm(a.1).total_cmp(&norm(b.1)));
+        if let Some((i, error)) = nearest.filter(|(_, e)| norm(*e) < 0.5) {
+            used[i] = true;
+            figures.matched += 1;
+            let vertical: f64 = (0..3).map(|a| error[a] * up[a]).sum();
+            figures.height_error += vertical.abs();
+            figures.horizontal_error += norm([0, 1, 2].map(|a| error[a] - up[a] * vertical));
+        }
+    }
+    figures.extra += used.iter().filter(|u| !**u).count();
+}
+
+fn replay_room(seed: u64) -> (f64, f64, FrontEndFigures) {
+    let (lines, figures) = room_lines(seed);
+    let mut input = Vec::new();
+    for line in &lines {
+        serde_json::to_writer(&mut input, line).unwrap();
+        input.push(b'\n');
+    }
+    let mut output = Vec::new();
+    let report = replay(ServerConfig::default(), input.as_slice(), &mut output).unwrap();
+    assert_eq!(report.bad_lines, 0);
+    let from = START + FIRST_S + SETTLE_S;
+    let ospa = report.mean_ospa_from(from).unwrap();
+    let scored: Vec<_> = report.scores.iter().filter(|s| s.stamp >= from).collect();
+    let right = scored
+        .iter()
+        .filter(|s| s.truth_count == s.track_count)
+        .count() as f64
+        / scored.len() as f64;
+    (ospa, right, figures)
+}
+
+#[test]
+fn room_tracks_from_raw_lidar_scans() {
+    let (mut worst_ospa, mut worst_right) = (0.0f64, 1.0f64);
+    let (mut sum_ospa, mut sum_right) = (0.0, 0.0);
+    for seed in [1, 2, 3] {
+        let (ospa, right, f) = replay_room(seed);
+        let matched = f.matched.max(1) as f64;
+        println!(
+            "room seed {seed}: {} scans, front end: {:.1} % of heads found, {:.2} extra objects per scan, \
+             errors horizontal {:.3} m, height {:.3} m; render {:.1} ms, front end {:.1} ms per scan; \
+             server: mean OSPA {ospa:.3} m from {:.0} s on, count right in {:.1} % of track sets",
+            f.scans,
+            100.0 * f.matched as f64 / f.heads as f64,
+            f.extra as f64 / f.scans as f64,
+            f.horizontal_error / matched,
+            f.height_error / matched,
+            1e3 * f.render_s / f.scans as f64,
+            1e3 * f.frontend_s / f.scans as f64,
+            FIRST_S + SETTLE_S,
+            100.0 * right
+        );
+        worst_ospa = worst_ospa.max(ospa);
+        worst_right = worst_right.min(right);
+        sum_ospa += ospa;
+        sum_right += right;
+    }
+    println!(
+        "room over 3 seeds: mean OSPA {:.3} m (worst {worst_ospa:.3}), count right {:.1} % (worst {:.1} %)",
+        sum_ospa / 3.0,
+        100.0 * sum_right / 3.0,
+        100.0 * worst_right
+    );
+    // The goal is OSPA ≤ 0.15 m with the count right in ≥ 90 % of the sets; today's figures are 0.145–0.218 m
+    // and 54–75 % (the front end finds 87–92 % of heads with 0.15–0.25 extra objects per scan, mostly when
+    // people stand shoulder to shoulder or one hides another's head). These floors catch a regression.
+    assert!(worst_ospa <= 0.25, "mean OSPA {worst_ospa:.3} m");
+    assert!(
+        worst_right >= 0.5,
+        "count right in {:.1} %",
+        100.0 * worst_right
+    );
+}
+
+/// Four walkers 5–25 m from a level VLP-16 1.8 m up, two poles among them.
+const OUTDOOR: &str = r#"
+duration_s = 10.0
+truth_rate_hz = 10.0
+[[targets]]
+id = 1
+motion = { kind = "constant_velocity", position = [5.0, 1.0, 1.75], velocity = [0.0, 0.5, 0.0] }
+[[targets]]
+id = 2
+motion = { kind = "constant_velocity", position = [11.0, -3.0, 1.70], velocity = [0.3, 0.4, 0.0] }
+[[targets]]
+id = 3
+motion = { kind = "constant_velocity", position = [20.0, 4.0, 1.80], velocity = [0.0, -0.6, 0.0] }
+[[targets]]
+id = 4
+motion = { kind = "constant_velocity", position = [25.0, -2.0, 1.75], velocity = [-0.4, 0.3, 0.0] }
+[[sensors]]
+sensor = "vlp16"
+detection_probability = 0.9
+clutter_rate = 1.0
+rate_hz = 10.0
+phase_s = 0.0
+[sensors.model]
+kind = "lidar"
+position = [0.0, 0.0, 1.8]
+orientation = [1.0, 0.0, 0.0, 0.0]
+noise_std = [0.05, 0.005, 0.01]
+max_range = 100.0
+elevation_limits = [-0.27, 0.27]
+"#;
+
+const POLES: [Pole; 2] = [
+    Pole {
+        centre: [15.0, 0.5],
+        radius: 0.08,
+        height: 4.0,
+    },
+    Pole {
+        centre: [22.0, -5.0],
+        radius: 0.1,
+        height: 3.5,
+    },
+];
+
+#[test]
+fn outdoor_walkers_are_found_at_their_centres_out_to_25_m_and_poles_are_not() {
+    let scenario = Scenario::from_toml_str(OUTDOOR).unwrap();
+    let model = lidar_model(&scenario, "vlp16");
+    let scene = LidarScene::open_ground(POLES.to_vec());
+    let pattern = ScanPattern::new(BeamLayout::vlp16());
+    let pipeline = LidarPipeline::new(LidarConfig::default()).unwrap();
+    let horizontal = |p: [f64; 3]| p[0].hypot(p[1]);
+    let (mut far_heads, mut far_found, mut worst_far_range_error) = (0, 0, 0.0f64);
+    let mut range_errors = Vec::new();
+    for step in 0..10 {
+        let t = 0.5 * step as f64;
+        let scan = render_lidar_scan(&scenario, "vlp16", &scene, &pattern, 5, t).unwrap();
+        let segmentation = pipeline.segment(&PointCloud::from_points(scan.points()));
+        assert!(segmentation.range_image);
+        for pole in &POLES {
+            let near_pole = segmentation
+                .objects
+                .iter()
+                .any(|o| (o.centre[0] - pole.centre[0]).hypot(o.centre[1] - pole.centre[1]) < 0.5);
+            assert!(!near_pole, "t = {t}: a pole reported as a person");
+        }
+        for (id, head) in heads(&scenario, &model, 5, t).iter().enumerate() {
+            let nearest = segmentation
+                .objects
+                .iter()
+                .map(|o| o.centre)
+                .min_by(|a, b| {
+                    let d = |p: &[f64; 3]| (p[0] - head[0]).hypot(p[1] - head[1]);
+                    d(a).total_cmp(&d(b))
+                })
+                .filter(|p| (p[0] - head[0]).hypot(p[1] - head[1]) < 0.5);
+            let far = horizontal(*head) >= 20.0;
+            far_heads += usize::from(far);
+            let Some(centre) = nearest else {
+                println!(
+                    "t = {t:.1}: walker {} at {:.1} m not found",
+                    id + 1,
+                    horizontal(*head)
+                );
+                continue;
+            };
+            let range_error = horizontal(centre) - horizontal(*head);
+            range_errors.push(range_error);
+            if far {
+                far_found += 1;
+                worst_far_range_error = worst_far_range_error.max(range_error.abs());
+            }
+            if step % 3 == 0 {
+                println!(
+                    "t = {t:.1}: walker {} at {:5.2} m: centre off by {:+.3} m in range, {:.3} m across",
+                    id + 1,
+                    horizontal(*head),
+                    range_error,
+                    (centre[1] * head[0] - centre[0] * head[1]).abs() / horizontal(*head),
+                );
+            }
+        }
+    }
+    let mean = range_errors.iter().sum::<f64>() / range_errors.len() as f64;
+    let mean_abs = range_errors.iter().map(|e| e.abs()).sum::<f64>() / range_errors.len() as f64;
+    println!(
+        "outdoor: {} of {far_heads} walker sightings at 20 m or more found (worst range error {worst_far_range_error:.3} m); \
+         over all {} found: range error mean {mean:+.3} m, mean |error| {mean_abs:.3} m",
+        far_found,
+        range_errors.len()
+    );
+    // One sighting in 20 is lost today (walker 3 at 20.4 m, side on: two rings of four returns, one dropped).
+    assert!(
+        far_found * 10 >= far_heads * 9,
+        "people at 20+ m missed: {far_found} of {far_heads}"
+    );
+    assert!(
+        worst_far_range_error < 0.08,
+        "far range error {worst_far_range_error:.3} m"
+    );
+    assert!(mean.abs() < 0.03 && mean_abs < 0.05);
+}
