@@ -3,6 +3,7 @@
 //! image-source model in `room_acoustics.rs` and the speech-like voices of `speech.rs`).
 //! Deterministic from (scenario, seed), like the simulated measurement sets.
 
+pub mod camera;
 pub mod mic_pair;
 pub mod room_acoustics;
 pub mod speech;
