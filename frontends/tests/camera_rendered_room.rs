@@ -31,7 +31,8 @@ fn figures(camera: &str, seed: u64, from_s: f64, to_s: f64) -> Figures {
     let SensorModel::Camera(model) = &spec.model else {
         panic!("{camera} is a camera")
     };
-    let mut renderer = CameraRenderer::new(&scenario, camera, &CameraRoom::default(), seed).unwrap();
+    let mut renderer =
+        CameraRenderer::new(&scenario, camera, &CameraRoom::default(), seed).unwrap();
     let mut pipeline = CameraPipeline::new(CameraConfig::default()).unwrap();
     let mut out = Figures::default();
     for (index, t) in frame_times(spec, -1.0, to_s).into_iter().enumerate() {
@@ -81,5 +82,16 @@ fn head_points_of_the_rendered_room() {
             100.0 * f.missed as f64 / f.heads as f64
         );
         assert!(f.frames > 200);
+        // Floors under today's figures (seed 1: 0.13 and 0.07 false heads per frame, 26 % and 31 %
+        // of heads missed). Most misses are heads seen inside a nearer person's silhouette, which
+        // a top outline cannot show; the heads found lie within 1 to 4 px of the projected truth.
+        assert!(
+            f.false_heads as f64 / f.frames as f64 <= 0.2,
+            "too many false heads"
+        );
+        assert!(
+            f.missed as f64 / f.heads as f64 <= 0.35,
+            "too many heads missed"
+        );
     }
 }

@@ -83,15 +83,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let spec = spec.clone();
     let to = args.to.unwrap_or(scenario.duration_s);
     let built = Instant::now();
-    let mut renderer = CameraRenderer::new(&scenario, &args.sensor, &CameraRoom::default(), args.seed)?;
+    let mut renderer =
+        CameraRenderer::new(&scenario, &args.sensor, &CameraRoom::default(), args.seed)?;
     let setup_s = built.elapsed().as_secs_f64();
     let started = Instant::now();
     let frames = match &args.output {
         Output::Frames(dir) => write_frame_directory(&mut renderer, &spec, args.from, to, dir)?
             .paths
             .len(),
-        Output::Y4m(target) => write_y4m(&mut renderer, &spec, args.from, to, &mut writer(target)?)?,
-        Output::Rgb(target) => write_raw_rgb(&mut renderer, &spec, args.from, to, &mut writer(target)?)?,
+        Output::Y4m(target) => {
+            write_y4m(&mut renderer, &spec, args.from, to, &mut writer(target)?)?
+        }
+        Output::Rgb(target) => {
+            write_raw_rgb(&mut renderer, &spec, args.from, to, &mut writer(target)?)?
+        }
     };
     let per_frame_ms = 1e3 * started.elapsed().as_secs_f64() / frames.max(1) as f64;
     eprintln!(

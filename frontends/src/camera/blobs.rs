@@ -111,11 +111,18 @@ impl BlobDetector {
             merge(&mut bodies[group].piece, &self.stats[label]);
         }
         // Bodies too small in all are noise: area 0 marks them dropped (indices stay).
-        for body in bodies.iter_mut().filter(|b| b.piece.area < self.config.min_area) {
+        for body in bodies
+            .iter_mut()
+            .filter(|b| b.piece.area < self.config.min_area)
+        {
             body.piece.area = 0;
         }
         self.outline_bodies(&labels, width, &body_of_label, &mut bodies);
-        let mut blobs: Vec<Blob> = bodies.iter().filter(|b| b.piece.area > 0).map(|b| self.blob_from(b)).collect();
+        let mut blobs: Vec<Blob> = bodies
+            .iter()
+            .filter(|b| b.piece.area > 0)
+            .map(|b| self.blob_from(b))
+            .collect();
         blobs.sort_by_key(|b| (b.top, b.left));
         blobs
     }
@@ -159,7 +166,10 @@ impl BlobDetector {
         }
         let band = self.config.anchor_band_rows;
         for (index, &label) in labels.iter().enumerate() {
-            let Some(&group) = (label as usize).checked_sub(1).and_then(|l| body_of_label.get(l)) else {
+            let Some(&group) = (label as usize)
+                .checked_sub(1)
+                .and_then(|l| body_of_label.get(l))
+            else {
                 continue;
             };
             let Some(body) = bodies.get_mut(group).filter(|b| b.piece.area > 0) else {

@@ -86,7 +86,12 @@ mod tests {
     use super::*;
 
     fn piece(left: u32, top: u32, right: u32, bottom: u32) -> PieceBox {
-        PieceBox { left, top, right, bottom }
+        PieceBox {
+            left,
+            top,
+            right,
+            bottom,
+        }
     }
 
     const RULE: JoinRule = JoinRule {
@@ -103,7 +108,10 @@ mod tests {
         let other_person = piece(200, 50, 240, 260);
         assert!(RULE.joins(&torso, &legs), "15 rows apart under the torso");
         assert!(!RULE.joins(&torso, &far_legs), "40 rows apart");
-        assert!(RULE.joins(&torso, &right_half), "one column apart at the same height");
+        assert!(
+            RULE.joins(&torso, &right_half),
+            "one column apart at the same height"
+        );
         assert!(!RULE.joins(&torso, &other_person));
         let groups = group_pieces(&[torso, other_person, legs, right_half], RULE);
         println!("{groups:?}");

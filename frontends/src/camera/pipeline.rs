@@ -122,7 +122,11 @@ impl CameraPipeline {
         Ok(Some(FrameDetections {
             frame_index,
             stamp,
-            points: self.blobs.iter().flat_map(|blob| blob.points.iter().copied()).collect(),
+            points: self
+                .blobs
+                .iter()
+                .flat_map(|blob| blob.points.iter().copied())
+                .collect(),
         }))
     }
 

@@ -25,15 +25,21 @@ pub fn suppress_shadows(
     }
     let chroma = config.max_chromaticity_difference * RGI_SCALE[0];
     let mut count = 0;
-    let pixels = objects.iter_mut().zip(shadows.iter_mut()).zip(frame.pixels());
+    let pixels = objects
+        .iter_mut()
+        .zip(shadows.iter_mut())
+        .zip(frame.pixels());
     for (index, ((object, shadow), x)) in pixels.enumerate() {
         if *object != FOREGROUND {
             continue;
         }
         let reference = background.reference(index);
-        let same_colour = (0..2).all(|d| (f32::from(x[d]) - f32::from(reference[d])).abs() <= chroma);
+        let same_colour =
+            (0..2).all(|d| (f32::from(x[d]) - f32::from(reference[d])).abs() <= chroma);
         let ratio = f32::from(x[2]) / f32::from(reference[2]).max(1.0);
-        if same_colour && (config.min_brightness_ratio..=config.max_brightness_ratio).contains(&ratio) {
+        if same_colour
+            && (config.min_brightness_ratio..=config.max_brightness_ratio).contains(&ratio)
+        {
             *object = 0;
             *shadow = FOREGROUND;
             count += 1;

@@ -14,17 +14,35 @@ pub const NO_PIXEL: u32 = u32::MAX;
 /// A head's y is its peak's top row; its x is the mean centre of the columns around the peak
 /// whose top lies within `band_rows` rows of it (pixel `(col, row)` covers `[col, col + 1)`).
 /// Heads are returned highest first.
-pub fn head_points(tops: &[u32], left: u32, bottom: u32, min_prominence: u32, band_rows: u32) -> Vec<[f64; 2]> {
+pub fn head_points(
+    tops: &[u32],
+    left: u32,
+    bottom: u32,
+    min_prominence: u32,
+    band_rows: u32,
+) -> Vec<[f64; 2]> {
     let elevation: Vec<i64> = tops
         .iter()
-        .map(|&top| if top == NO_PIXEL { 0 } else { i64::from(bottom) - i64::from(top) })
+        .map(|&top| {
+            if top == NO_PIXEL {
+                0
+            } else {
+                i64::from(bottom) - i64::from(top)
+            }
+        })
         .collect();
     let mut heads: Vec<(u32, [f64; 2])> = plateaus(&elevation)
         .into_iter()
         .filter(|&(start, end)| prominence(&elevation, start, end) >= i64::from(min_prominence))
         .map(|(start, _)| {
             let top = tops[start];
-            (top, [band_centre(tops, start, top.saturating_add(band_rows)) + f64::from(left), f64::from(top)])
+            (
+                top,
+                [
+                    band_centre(tops, start, top.saturating_add(band_rows)) + f64::from(left),
+                    f64::from(top),
+                ],
+            )
         })
         .collect();
     heads.sort_by(|a, b| a.0.cmp(&b.0).then(a.1[0].total_cmp(&b.1[0])));
@@ -99,7 +117,10 @@ mod tests {
 
     /// A skyline of flat steps: `(columns, top row)` pairs from left to right.
     fn skyline(steps: &[(usize, u32)]) -> Vec<u32> {
-        steps.iter().flat_map(|&(n, top)| std::iter::repeat(top).take(n)).collect()
+        steps
+            .iter()
+            .flat_map(|&(n, top)| std::iter::repeat_n(top, n))
+            .collect()
     }
 
     #[test]
@@ -119,13 +140,19 @@ mod tests {
         assert_eq!(heads, vec![[15.0, 20.0]]);
         // Two equal heads: both count, once each.
         let tops = skyline(&[(5, 20), (5, 60), (5, 20)]);
-        assert_eq!(head_points(&tops, 0, 100, 12, 4), vec![[2.5, 20.0], [12.5, 20.0]]);
+        assert_eq!(
+            head_points(&tops, 0, 100, 12, 4),
+            vec![[2.5, 20.0], [12.5, 20.0]]
+        );
     }
 
     #[test]
     fn gaps_in_the_outline_are_ground() {
         let tops = skyline(&[(4, 30), (3, NO_PIXEL), (4, 30)]);
-        assert_eq!(head_points(&tops, 0, 100, 12, 4), vec![[2.0, 30.0], [9.0, 30.0]]);
+        assert_eq!(
+            head_points(&tops, 0, 100, 12, 4),
+            vec![[2.0, 30.0], [9.0, 30.0]]
+        );
         assert!(head_points(&[], 0, 100, 12, 4).is_empty());
     }
 }

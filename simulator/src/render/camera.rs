@@ -19,15 +19,15 @@ mod output;
 mod people;
 mod texture;
 
+use crate::error::{invalid, ScenarioError};
+use crate::scenario::Scenario;
+use crate::seeding::{splitmix64, StreamKey};
+use crate::target::Target;
 use background::{render_background, StaticBackground};
 use geometry::PinholeRays;
 pub use output::{frame_times, write_frame_directory, write_raw_rgb, write_y4m, RenderedFrames};
 pub use people::Appearance;
 use people::{paint_shadow, Body};
-use crate::error::{invalid, ScenarioError};
-use crate::scenario::Scenario;
-use crate::seeding::{splitmix64, StreamKey};
-use crate::target::Target;
 
 /// Entries of the table sensor noise is drawn from.
 const NOISE_TABLE_LEN: usize = 4096;
@@ -148,7 +148,11 @@ impl CameraRenderer {
 
     /// Renders the frame at scenario time `t` into `image`, which must have the camera's size.
     pub fn render_into(&mut self, t: f64, image: &mut RgbImage) {
-        assert_eq!(image.dimensions(), (self.size[0], self.size[1]), "frame size");
+        assert_eq!(
+            image.dimensions(),
+            (self.size[0], self.size[1]),
+            "frame size"
+        );
         self.frame.copy_from_slice(&self.background.colour);
         self.depth.fill(f32::INFINITY);
         let present: Vec<usize> = (0..self.targets.len())
@@ -240,7 +244,11 @@ mod tests {
         let mut b = CameraRenderer::new(&scenario, "cam1", &room, 5).unwrap();
         let later = a.render(12.0);
         let _ = b.render(3.0);
-        assert_eq!(b.render(12.0), later, "a frame depends on what was rendered before");
+        assert_eq!(
+            b.render(12.0),
+            later,
+            "a frame depends on what was rendered before"
+        );
         let mut other = CameraRenderer::new(&scenario, "cam1", &room, 6).unwrap();
         assert_ne!(other.render(12.0), later);
         assert!(CameraRenderer::new(&scenario, "mics_s", &room, 5).is_err());
@@ -263,7 +271,8 @@ mod tests {
             let frame = renderer.render(t);
             let head = scenario.targets[0].position_at(1, t);
             let ([u, v], _) = rays.project(head).unwrap();
-            let (silhouette_top, top_u) = silhouette_top(&rays, &Body::new(head, &renderer.targets[0].1).head());
+            let (silhouette_top, top_u) =
+                silhouette_top(&rays, &Body::new(head, &renderer.targets[0].1).head());
             let near_head: Vec<(u32, u32)> = changed(&frame, &empty, 0)
                 .into_iter()
                 .filter(|&(x, _)| (f64::from(x) + 0.5 - u).abs() < 30.0)
@@ -278,8 +287,14 @@ mod tests {
             println!(
                 "{camera}: the head's top projects to ({u:.1}, {v:.1}), the head's outline is highest at ({top_u:.1}, {silhouette_top:.1}); the drawn head's top row is {top}, at x {column:.1}"
             );
-            assert!((f64::from(top) + 0.5 - silhouette_top).abs() <= 1.0, "top row {top} against {silhouette_top:.1}");
-            assert!((column - top_u).abs() <= 3.0, "column {column:.1} against {top_u:.1}");
+            assert!(
+                (f64::from(top) + 0.5 - silhouette_top).abs() <= 1.0,
+                "top row {top} against {silhouette_top:.1}"
+            );
+            assert!(
+                (column - top_u).abs() <= 3.0,
+                "column {column:.1} against {top_u:.1}"
+            );
         }
     }
 
@@ -288,7 +303,10 @@ mod tests {
         let mut best = (f64::INFINITY, 0.0);
         for i in 0..400 {
             for j in 0..200 {
-                let (azimuth, polar) = (i as f64 / 400.0 * std::f64::consts::TAU, j as f64 / 200.0 * std::f64::consts::PI);
+                let (azimuth, polar) = (
+                    i as f64 / 400.0 * std::f64::consts::TAU,
+                    j as f64 / 200.0 * std::f64::consts::PI,
+                );
                 let p = [
                     head.centre[0] + head.radius * polar.sin() * azimuth.cos(),
                     head.centre[1] + head.radius * polar.sin() * azimuth.sin(),
@@ -308,7 +326,11 @@ mod tests {
         let mut scenario = crate::default_room();
         // Two people on one line of sight of cam1 (at the origin): the far one taller.
         let line = |d: f64, z: f64| [0.75 * d, 0.5 * d, z];
-        for (target, position) in scenario.targets.iter_mut().zip([line(1.2, 1.6), line(2.2, 1.9)]) {
+        for (target, position) in scenario
+            .targets
+            .iter_mut()
+            .zip([line(1.2, 1.6), line(2.2, 1.9)])
+        {
             target.appear_s = 0.0;
             target.motion = crate::Motion::ConstantVelocity(crate::ConstantVelocity {
                 position,
@@ -324,10 +346,15 @@ mod tests {
         let differs = changed(&both.render(1.0), &near_frame, 2);
         let mut nobody = scenario.clone();
         nobody.targets.clear();
-        let empty = CameraRenderer::new(&nobody, "cam1", &quiet_room(), 1).unwrap().render(1.0);
+        let empty = CameraRenderer::new(&nobody, "cam1", &quiet_room(), 1)
+            .unwrap()
+            .render(1.0);
         let near_silhouette: std::collections::HashSet<(u32, u32)> =
             changed(&near_frame, &empty, 2).into_iter().collect();
-        let overdrawn = differs.iter().filter(|p| near_silhouette.contains(p)).count();
+        let overdrawn = differs
+            .iter()
+            .filter(|p| near_silhouette.contains(p))
+            .count();
         println!(
             "the far person shows in {} pixels; {overdrawn} of the near person's {} pixels changed",
             differs.len(),

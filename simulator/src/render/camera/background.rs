@@ -25,7 +25,10 @@ enum Surface {
     Floor,
     Ceiling,
     /// A wall: the axis it is normal to (0 = x, 1 = y) and whether it is the room's upper side.
-    Wall { axis: usize, upper: bool },
+    Wall {
+        axis: usize,
+        upper: bool,
+    },
 }
 
 /// The room as one camera sees it without anybody in it.
@@ -93,7 +96,10 @@ fn exit(origin: [f64; 3], d: [f64; 3], min: [f64; 3], max: [f64; 3]) -> (Surface
 fn surface_colour(surface: Surface, p: [f64; 3], min: [f64; 3], key: u64) -> [f64; 3] {
     match surface {
         Surface::Floor => floor_colour(p, key),
-        Surface::Ceiling => shade(CEILING_RGB, 1.0 + 0.04 * fabric_noise(key ^ 3, p[0] * 4.0, p[1] * 4.0)),
+        Surface::Ceiling => shade(
+            CEILING_RGB,
+            1.0 + 0.04 * fabric_noise(key ^ 3, p[0] * 4.0, p[1] * 4.0),
+        ),
         Surface::Wall { axis, upper } => {
             // The coordinate along the wall, from the room's corner.
             let along = p[1 - axis] - min[1 - axis];
@@ -108,14 +114,21 @@ fn floor_colour(p: [f64; 3], key: u64) -> [f64; 3] {
     let across = p[1] / PLANK_M - plank;
     let tone = 0.88 + 0.24 * lattice_value(key ^ 11, plank as i64, 0);
     let grain = fabric_noise(key ^ 13 ^ plank as u64, p[0] * 6.0, p[1] * 90.0);
-    let seam = if !(0.04..=0.96).contains(&across) { 0.7 } else { 1.0 };
+    let seam = if !(0.04..=0.96).contains(&across) {
+        0.7
+    } else {
+        1.0
+    };
     shade(FLOOR_RGB, tone * (1.0 + 0.22 * grain) * seam)
 }
 
 /// Paint with a faint roller texture; a skirting board; a door on the far y wall, a picture on the
 /// near x wall.
 fn wall_colour(axis: usize, upper: bool, along: f64, z: f64, key: u64) -> [f64; 3] {
-    let paint = shade(WALL_RGB, 1.0 + 0.05 * fabric_noise(key ^ 17 ^ axis as u64, along * 8.0, z * 8.0));
+    let paint = shade(
+        WALL_RGB,
+        1.0 + 0.05 * fabric_noise(key ^ 17 ^ axis as u64, along * 8.0, z * 8.0),
+    );
     let door = axis == 1 && upper && (0.55..1.40).contains(&along) && z < 2.05;
     if door {
         let panel = value_noise(key ^ 19, along * 4.0, z * 40.0);
@@ -123,7 +136,10 @@ fn wall_colour(axis: usize, upper: bool, along: f64, z: f64, key: u64) -> [f64; 
         return shade(DOOR_RGB, if frame_line { 0.8 } else { 0.92 + 0.16 * panel });
     }
     if z < SKIRTING_M {
-        return shade(SKIRTING_RGB, 1.0 + 0.05 * fabric_noise(key ^ 23, along * 20.0, z * 20.0));
+        return shade(
+            SKIRTING_RGB,
+            1.0 + 0.05 * fabric_noise(key ^ 23, along * 20.0, z * 20.0),
+        );
     }
     let picture = axis == 0 && !upper && (0.6..1.4).contains(&along) && (1.1..1.7).contains(&z);
     if picture {

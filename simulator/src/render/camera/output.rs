@@ -70,7 +70,10 @@ pub fn write_y4m(
 ) -> io::Result<usize> {
     let [width, height] = renderer.size();
     let (num, den) = rate_fraction(spec.rate_hz);
-    writeln!(out, "YUV4MPEG2 W{width} H{height} F{num}:{den} Ip A1:1 C444 XCOLORRANGE=FULL")?;
+    writeln!(
+        out,
+        "YUV4MPEG2 W{width} H{height} F{num}:{den} Ip A1:1 C444 XCOLORRANGE=FULL"
+    )?;
     let mut image = RgbImage::new(width, height);
     let pixels = width as usize * height as usize;
     let mut planes = vec![0u8; 3 * pixels];

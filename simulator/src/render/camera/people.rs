@@ -17,7 +17,11 @@ const HAIR: [[f64; 3]; 5] = [
     [70.0, 66.0, 64.0],
     [20.0, 18.0, 18.0],
 ];
-const SKIN: [[f64; 3]; 3] = [[226.0, 188.0, 160.0], [192.0, 142.0, 108.0], [128.0, 88.0, 64.0]];
+const SKIN: [[f64; 3]; 3] = [
+    [226.0, 188.0, 160.0],
+    [192.0, 142.0, 108.0],
+    [128.0, 88.0, 64.0],
+];
 const SHIRTS: [[f64; 3]; 7] = [
     [176.0, 44.0, 48.0],
     [44.0, 74.0, 148.0],
@@ -112,7 +116,10 @@ impl<'a> Body<'a> {
             parts: [
                 (part(z - head_half, look.head_radius, head_half), Part::Head),
                 (part(torso_z, look.torso_radius, torso_half), Part::Torso),
-                (part(legs_top / 2.0, 0.13, legs_top / 2.0 + 0.01), Part::Legs),
+                (
+                    part(legs_top / 2.0, 0.13, legs_top / 2.0 + 0.01),
+                    Part::Legs,
+                ),
             ],
             head_top,
             look,
@@ -127,7 +134,13 @@ impl<'a> Body<'a> {
 
     /// Draws the body into `frame` (linear RGB, row-major, `size` pixels) where it is nearer than
     /// `depth`, which it updates; only the pixels of its projected bounding box are visited.
-    pub fn paint(&self, rays: &PinholeRays, size: [u32; 2], frame: &mut [[f32; 3]], depth: &mut [f32]) {
+    pub fn paint(
+        &self,
+        rays: &PinholeRays,
+        size: [u32; 2],
+        frame: &mut [[f32; 3]],
+        depth: &mut [f32],
+    ) {
         let (mut lo, mut hi) = self.parts[0].0.bounds();
         for (part, _) in &self.parts[1..] {
             let (a, b) = part.bounds();
@@ -168,12 +181,19 @@ impl<'a> Body<'a> {
         let look = self.look;
         // Texture coordinates: the angle around the body's axis and the height.
         let around = (p[1] - self.head_top[1]).atan2(p[0] - self.head_top[0]) * 0.2;
-        let cloth = |colour: [f64; 3], key: u64| shade(colour, 1.0 + 0.3 * fabric_noise(look.key ^ key, around * 40.0, p[2] * 25.0));
+        let cloth = |colour: [f64; 3], key: u64| {
+            shade(
+                colour,
+                1.0 + 0.3 * fabric_noise(look.key ^ key, around * 40.0, p[2] * 25.0),
+            )
+        };
         match part {
             Part::Head if p[2] > self.head_top[2] - 0.1 => cloth(look.hair, 1),
             Part::Head => look.skin,
             Part::Torso => match look.stripes_m {
-                Some(period) if (p[2] / period).rem_euclid(1.0) < 0.5 => cloth(shade(look.shirt, 0.62), 2),
+                Some(period) if (p[2] / period).rem_euclid(1.0) < 0.5 => {
+                    cloth(shade(look.shirt, 0.62), 2)
+                }
                 _ => cloth(look.shirt, 2),
             },
             Part::Legs => cloth(look.trousers, 3),
