@@ -47,3 +47,49 @@ pub fn suppress_shadows(
     }
     count
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{new_background_model, BackgroundConfig};
+    use image::{Rgb, RgbImage};
+
+    #[test]
+    fn a_darkened_floor_is_shadow_and_a_coloured_object_is_not() {
+        let floor = Rgb([150u8, 116, 82]);
+        let empty = RgbImage::from_pixel(4, 1, floor);
+        let mut model = new_background_model(&BackgroundConfig::default(), 4, 1);
+        let mut mask = GrayImage::new(4, 1);
+        while model.is_learning() {
+            model.update(&RgiImage::from_rgb(&empty), &mask);
+        }
+        // Floor, floor at 60 % of its light, a red shirt, floor at 20 % (too dark for a shadow).
+        let mut frame = empty.clone();
+        frame.put_pixel(1, 0, Rgb([90, 70, 49]));
+        frame.put_pixel(2, 0, Rgb([176, 44, 48]));
+        frame.put_pixel(3, 0, Rgb([30, 23, 16]));
+        let rgi = RgiImage::from_rgb(&frame);
+        model.classify(&rgi, &mut mask);
+        println!("classified foreground: {:?}", mask.as_raw());
+        assert_eq!(mask.as_raw(), &[0, FOREGROUND, FOREGROUND, FOREGROUND]);
+        let mut shadows = GrayImage::new(4, 1);
+        let count = suppress_shadows(
+            &ShadowConfig {
+                enabled: true,
+                ..ShadowConfig::default()
+            },
+            model.as_ref(),
+            &rgi,
+            &mut mask,
+            &mut shadows,
+        );
+        println!(
+            "objects {:?}, shadows {:?}",
+            mask.as_raw(),
+            shadows.as_raw()
+        );
+        assert_eq!(count, 1);
+        assert_eq!(mask.as_raw(), &[0, 0, FOREGROUND, FOREGROUND]);
+        assert_eq!(shadows.as_raw(), &[0, FOREGROUND, 0, 0]);
+    }
+}
