@@ -382,7 +382,7 @@ mod tests {
         }
         let per_frame = started.elapsed().as_secs_f64() / (2 * frames) as f64;
         println!(
-            "{:.2} ms per 640×480 frame with 3 people: the two cameras at 25 Hz take {:.0} % of one core",
+            "{:.2} ms (wall clock, so more on a loaded host) per 640×480 frame with 3 people: the two cameras at 25 Hz take {:.0} % of one core",
             per_frame * 1e3,
             100.0 * per_frame * 50.0
         );
