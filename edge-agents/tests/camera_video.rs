@@ -1,11 +1,10 @@
-//! `edge-agent camera --video`: the synthetic scene of the camera front end's tests (three people walking
-//! across a textured background) rendered to PNG frames and made into a lossless video (FFV1, RGB), read as
-//! a file and played live into stdin by `ffmpeg -re`; and sources that are garbage, end, or never open.
+//! `edge-agent camera --video`: the default room's camera `cam1` rendered by the simulator (people walking in
+//! a textured room, `simulator::render::camera`) to PNG frames and made into a lossless video (FFV1, RGB), read
+//! as a file and played live into stdin by `ffmpeg -re`, each giving the head points of the frames to the
+//! pixel; and sources that are garbage, end, or never open.
 //!
 //! Needs the `ffmpeg` executable: skipped (saying so) without it, failed under CI.
 
-#[path = "../../frontends/tests/camera_scene/mod.rs"]
-mod camera_scene;
 mod common;
 mod live_support;
 
@@ -13,42 +12,54 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use camera_scene::{Scene, EMPTY_FRAMES, HEIGHT, PEOPLE_FRAMES, WIDTH};
 use common::{check_replay, edge_agent, edge_agent_ok, START};
 use live_support::{children_of, have_ffmpeg, now, start_agent, terminate};
 use protocol::MeasurementSet;
+use simulator::render::camera::{write_frame_directory, CameraRenderer, CameraRoom};
 
 /// Frame rate of the rendered video; low enough for the live run to keep up on a loaded 2-core host.
 const FPS: u32 = 10;
+/// Frames of the empty room before anybody walks in (the background model's default N = 16 learns
+/// from them).
+const EMPTY_FRAMES: usize = 16;
+/// Frames from the scenario's start on (target 1 walks in at 0.5 s, the others at 2 and 4.5 s).
+const PEOPLE_FRAMES: usize = 60;
+/// The camera rendered.
+const CAMERA: &str = "cam1";
+const WIDTH: u32 = 640;
+const HEIGHT: u32 = 480;
 
+/// The camera's descriptor, as the scenario publishes it.
 fn descriptor(dir: &Path) -> String {
-    let path = dir.join("cam.toml");
-    let text = format!(
-        "sensor = \"cam1\"\ndetection_probability = 0.9\nclutter_rate = 0.5\n[model]\nkind = \"camera\"\n\
-         projection = [[800, 0, 320, -400], [0, 800, 240, -300], [0, 0, 1, -2]]\n\
-         image_size = [{WIDTH}, {HEIGHT}]\nnoise_std = [3.0, 3.0]\n"
-    );
+    let scenario = simulator::default_room();
+    let (_, spec) = scenario.sensor(CAMERA).expect("the room has cam1");
+    let path = dir.join("cam.json");
+    let text = serde_json::to_string(&spec.descriptor(&scenario.site)).expect("descriptor JSON");
     std::fs::write(&path, text).expect("write descriptor");
     path.to_str().expect("utf-8 path").to_owned()
 }
 
-/// Renders the scene to `dir/frames/NNNN.png` and encodes `dir/people.mkv` from them, losslessly.
+/// Renders the room's `cam1` at `FPS` to `dir/frames/NNNNNN.png` (from before anybody is in) and encodes
+/// `dir/people.mkv` from them, losslessly.
 fn render_video(dir: &Path) -> (String, String) {
     let frames = dir.join("frames");
-    std::fs::create_dir(&frames).expect("frames dir");
-    let mut scene = Scene::new(20_240_611);
-    for k in 0..EMPTY_FRAMES + PEOPLE_FRAMES {
-        scene
-            .render(k)
-            .save(frames.join(format!("{k:04}.png")))
-            .expect("save frame");
-    }
+    let scenario = simulator::default_room();
+    let (_, spec) = scenario.sensor(CAMERA).expect("the room has cam1");
+    let mut spec = spec.clone();
+    (spec.rate_hz, spec.phase_s) = (f64::from(FPS), 0.0);
+    let mut renderer = CameraRenderer::new(&scenario, CAMERA, &CameraRoom::default(), 20_240_611)
+        .expect("cam1 renders");
+    let from = -(EMPTY_FRAMES as f64) / f64::from(FPS);
+    let to = PEOPLE_FRAMES as f64 / f64::from(FPS);
+    let rendered =
+        write_frame_directory(&mut renderer, &spec, from, to, &frames).expect("write frames");
+    assert_eq!(rendered.paths.len(), EMPTY_FRAMES + PEOPLE_FRAMES);
     let video = dir.join("people.mkv");
     let status = Command::new("ffmpeg")
         .args(["-hide_banner", "-loglevel", "error", "-y"])
         .args(["-framerate", &FPS.to_string()])
         .arg("-i")
-        .arg(frames.join("%04d.png"))
+        .arg(frames.join("%06d.png"))
         .args(["-c:v", "ffv1", "-pix_fmt", "bgr0"])
         .arg(&video)
         .status()

@@ -2,7 +2,7 @@
 
 use image::GrayImage;
 
-use super::chromaticity::RgiImage;
+use super::chromaticity::{Rgi, RgiImage};
 use super::config::{BackgroundConfig, BackgroundModelKind};
 use super::kde_background::KdeBackground;
 use super::running_background::RunningStatsBackground;
@@ -25,6 +25,11 @@ pub trait BackgroundModel: Send {
     /// pixels that `foreground` marks 0 (background) are, so `foreground` should be the cleaned mask
     /// (its closing fills holes in people, which must not leak into the background).
     fn update(&mut self, frame: &RgiImage, foreground: &GrayImage);
+
+    /// The background's value at pixel `index` (row-major): what the pixel shows when nothing is
+    /// in front of it, the reference against which a shadow is recognised. Only meaningful once
+    /// the model has learned.
+    fn reference(&self, index: usize) -> Rgi;
 }
 
 /// Builds the configured model for frames of `width` x `height` pixels. The configuration must

@@ -113,6 +113,12 @@ impl BackgroundModel for KdeBackground {
         }
     }
 
+    fn reference(&self, index: usize) -> Rgi {
+        // The newest sample: the slot before the one the next sample overwrites.
+        let n = self.capacity;
+        self.samples[index * n + (self.next_slot[index] as usize + n - 1) % n]
+    }
+
     fn update(&mut self, frame: &RgiImage, foreground: &GrayImage) {
         debug_assert_eq!(frame.pixels().len(), self.pixel_count);
         let n = self.capacity;

@@ -4,8 +4,9 @@
 //! - Background subtraction (`CameraPipeline`): each frame is converted to rgI chromaticity, compared
 //!   with a per-pixel background model (kernel density over recent background samples as in
 //!   Hoseinnezhad, Vo and Vu, or running mean/variance), the foreground mask is opened and closed,
-//!   its connected components above a minimum area become blobs, and each blob gives one point, by
-//!   default its head point (top-centre), the measurement of Pham's single-view stage (thesis ch. 7).
+//!   its connected components are joined into bodies (pieces stacked within a body's width), and
+//!   each body gives its head points (the peaks of its top outline, one per person it holds), the
+//!   measurement of Pham's single-view stage (thesis ch. 7), or its centroid or feet.
 //! - Precomputed detections (`read_mot_detections`): a MOT Challenge `det.txt`, one point per box.
 //!
 //! Both yield `Vec<FrameDetections>`, one point set per frame, ready for a 2-D GM-PHD update
@@ -15,6 +16,7 @@
 
 mod background;
 mod blobs;
+mod bodies;
 mod chromaticity;
 mod config;
 mod detections;
@@ -25,13 +27,15 @@ mod morphology;
 mod mot_det;
 mod pipeline;
 mod running_background;
+mod shadows;
+mod top_profile;
 
 pub use background::{new_background_model, BackgroundModel, FOREGROUND};
 pub use blobs::{Blob, BlobDetector};
 pub use chromaticity::{rgb_to_rgi, Rgi, RgiImage, RGI_SCALE};
 pub use config::{
     BackgroundConfig, BackgroundModelKind, BlobConfig, CameraConfig, KdeConfig, MotDetConfig,
-    RunningStatsConfig,
+    RunningStatsConfig, ShadowConfig,
 };
 pub use detections::{FrameDetections, PointAnchor};
 pub use error::{CameraError, CameraResult};
@@ -43,3 +47,4 @@ pub use mot_det::{
 };
 pub use pipeline::CameraPipeline;
 pub use running_background::RunningStatsBackground;
+pub use shadows::suppress_shadows;

@@ -1,5 +1,5 @@
-//! The camera pipeline: RGB frame -> rgI -> background subtraction -> mask clean-up -> blobs ->
-//! one point per blob.
+//! The camera pipeline: RGB frame -> rgI -> background subtraction -> shadow suppression -> mask
+//! clean-up -> bodies -> their head points.
 
 use image::{GrayImage, RgbImage};
 
@@ -10,6 +10,7 @@ use super::config::CameraConfig;
 use super::detections::FrameDetections;
 use super::error::{CameraError, CameraResult};
 use super::frames::FrameDirectory;
+use super::shadows::suppress_shadows;
 
 /// Turns a sequence of frames of one fixed-size camera into point measurements. The background model
 /// is built on the first frame, whose size every later frame must have.
@@ -19,6 +20,8 @@ pub struct CameraPipeline {
     detector: BlobDetector,
     rgi: RgiImage,
     mask: GrayImage,
+    /// The shadow pixels of the last frame: not objects, yet not learned as background either.
+    shadows: GrayImage,
     blobs: Vec<Blob>,
 }
 
@@ -33,6 +36,7 @@ impl CameraPipeline {
             detector,
             rgi: RgiImage::default(),
             mask: GrayImage::new(0, 0),
+            shadows: GrayImage::new(0, 0),
             blobs: Vec::new(),
         })
     }
@@ -79,6 +83,7 @@ impl CameraPipeline {
         if self.background.is_none() {
             self.background = Some(new_background_model(&self.config.background, width, height));
             self.mask = GrayImage::new(width, height);
+            self.shadows = GrayImage::new(width, height);
         }
         if self.mask.dimensions() != (width, height) {
             return Err(CameraError::FrameSizeMismatch {
@@ -100,12 +105,28 @@ impl CameraPipeline {
             return Ok(None);
         }
         background.classify(&self.rgi, &mut self.mask);
+        suppress_shadows(
+            &self.config.shadows,
+            background.as_ref(),
+            &self.rgi,
+            &mut self.mask,
+            &mut self.shadows,
+        );
         self.blobs = self.detector.detect(&mut self.mask);
-        background.update(&self.rgi, &self.mask);
+        // A shadow is not learned as background either: where it falls is not what the empty
+        // scene shows. The shadow buffer becomes the mask of what is not learned.
+        for (s, &m) in self.shadows.iter_mut().zip(self.mask.iter()) {
+            *s = (*s).max(m);
+        }
+        background.update(&self.rgi, &self.shadows);
         Ok(Some(FrameDetections {
             frame_index,
             stamp,
-            points: self.blobs.iter().map(|blob| blob.point).collect(),
+            points: self
+                .blobs
+                .iter()
+                .flat_map(|blob| blob.points.iter().copied())
+                .collect(),
         }))
     }
 

@@ -6,7 +6,7 @@
 use image::GrayImage;
 
 use super::background::{BackgroundModel, FOREGROUND};
-use super::chromaticity::{RgiImage, RGI_SCALE};
+use super::chromaticity::{Rgi, RgiImage, RGI_SCALE};
 use super::config::RunningStatsConfig;
 
 /// The running-statistics background model.
@@ -62,6 +62,10 @@ impl BackgroundModel for RunningStatsBackground {
                 0
             };
         }
+    }
+
+    fn reference(&self, index: usize) -> Rgi {
+        self.mean[index].map(|m| m.round().clamp(0.0, 255.0) as u8)
     }
 
     fn update(&mut self, frame: &RgiImage, foreground: &GrayImage) {

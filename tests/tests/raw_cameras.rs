@@ -1,0 +1,190 @@
+//! The default room's two cameras rendered from the truth (`simulator::render::camera`: textured
+//! people walking and occluding one another over a textured room, soft shadows, illumination
+//! drift, sensor noise), written as PNG frame directories and run through the real
+//! `edge-agent camera --frames` (background subtraction, blobs, head points, the single-view
+//! tracker, with its default configuration), then fused by the server's replay: mean 3-D OSPA
+//! and the share of track sets with the right count against the truth, for several seeds.
+
+use std::path::Path;
+use std::process::Command;
+
+use checker::processes::binary;
+use protocol::{ReplayLine, SensorDescriptor};
+use simulator::render::camera::{write_frame_directory, CameraRenderer, CameraRoom};
+use simulator::{truth_set, Scenario};
+
+/// Unix time of scenario time 0.
+const START: f64 = 1_763_700_000.0;
+/// The cameras run from before anybody is in the room (target 1 walks in at 0.5 s), so that the
+/// background model learns the empty room.
+const FROM_S: f64 = -1.0;
+/// Seconds rendered.
+const TO_S: f64 = 30.0;
+/// Scores count from here: every person has walked in and been confirmed.
+const SCORED_FROM_S: f64 = 6.0;
+const CAMERAS: [&str; 2] = ["cam1", "cam2"];
+
+/// Mean OSPA and share of right counts of one seed.
+struct Figures {
+    ospa: f64,
+    right_count: f64,
+    track_ids: usize,
+}
+
+/// Renders `camera` and runs it through `edge-agent camera --frames`; returns its replay lines.
+fn camera_sets(scenario: &Scenario, camera: &str, seed: u64, dir: &Path) -> String {
+    let (_, spec) = scenario.sensor(camera).unwrap();
+    let mut renderer = CameraRenderer::new(scenario, camera, &CameraRoom::default(), seed).unwrap();
+    let frames = dir.join(camera);
+    let rendered = write_frame_directory(&mut renderer, spec, FROM_S, TO_S, &frames).unwrap();
+    let descriptor_path = dir.join(format!("{camera}.json"));
+    let descriptor: SensorDescriptor = spec.descriptor(&scenario.site);
+    std::fs::write(
+        &descriptor_path,
+        serde_json::to_string(&descriptor).unwrap(),
+    )
+    .unwrap();
+    let output = Command::new(binary("edge-agent").unwrap())
+        .arg("camera")
+        .arg("--descriptor")
+        .arg(&descriptor_path)
+        .arg("--frames")
+        .arg(&frames)
+        .args(["--fps", &spec.rate_hz.to_string()])
+        .args(["--start", &(START + rendered.times[0]).to_string()])
+        .args(["--output", "-"])
+        .env("RUST_LOG", "warn")
+        .output()
+        .expect("edge-agent runs");
+    assert!(
+        output.status.success(),
+        "edge-agent failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+fn figures(seed: u64) -> Figures {
+    let mut scenario = simulator::default_room();
+    scenario.start = Some(START);
+    let dir = tempfile::tempdir().unwrap();
+    let mut lines: Vec<ReplayLine> = Vec::new();
+    let outputs: Vec<String> = std::thread::scope(|scope| {
+        let jobs: Vec<_> = CAMERAS
+            .iter()
+            .map(|camera| {
+                let (scenario, dir) = (&scenario, dir.path());
+                scope.spawn(move || camera_sets(scenario, camera, seed, dir))
+            })
+            .collect();
+        jobs.into_iter().map(|j| j.join().unwrap()).collect()
+    });
+    let mut sets = Vec::new();
+    for text in &outputs {
+        for line in text.lines() {
+            match serde_json::from_str::<ReplayLine>(line).unwrap() {
+                ReplayLine::Measurements(set) => sets.push(set),
+                other => lines.push(other),
+            }
+        }
+    }
+    fuse(&scenario, seed, lines, sets)
+}
+
+/// The cameras' own simulated sets (the simulator's measurement model: the projected head with
+/// pixel noise, misses and clutter as the descriptors say), fused the same way: what the fusion
+/// makes of these two cameras when the front end is as good as its descriptor claims.
+fn simulated_figures(seed: u64) -> Figures {
+    let mut scenario = simulator::default_room();
+    scenario.start = Some(START);
+    scenario
+        .sensors
+        .retain(|s| CAMERAS.contains(&s.sensor.as_str()));
+    let (descriptors, sets) = simulator::descriptors_and_sets(&scenario, seed, TO_S).unwrap();
+    let lines = descriptors
+        .into_iter()
+        .map(ReplayLine::Descriptor)
+        .collect();
+    fuse(&scenario, seed, lines, sets)
+}
+
+/// Runs the server's replay over descriptors and sets with the scenario's truth, and scores it.
+fn fuse(
+    scenario: &Scenario,
+    seed: u64,
+    mut lines: Vec<ReplayLine>,
+    mut sets: Vec<protocol::MeasurementSet>,
+) -> Figures {
+    sets.sort_by(|a, b| a.stamp.total_cmp(&b.stamp));
+    let truth_count = scenario.truth_count(TO_S);
+    lines.extend((0..truth_count).map(|k| ReplayLine::Truth(truth_set(scenario, seed, START, k))));
+    lines.extend(sets.into_iter().map(ReplayLine::Measurements));
+    let input: String = lines
+        .iter()
+        .map(|l| serde_json::to_string(l).unwrap() + "\n")
+        .collect();
+    let report = fusion_server::replay::replay(
+        fusion_server::config::ServerConfig::default(),
+        input.as_bytes(),
+        std::io::sink(),
+    )
+    .unwrap();
+    let from = START + SCORED_FROM_S;
+    let scored: Vec<_> = report.scores.iter().filter(|s| s.stamp >= from).collect();
+    let right = scored
+        .iter()
+        .filter(|s| s.truth_count == s.track_count)
+        .count();
+    let mut ids: Vec<u64> = report
+        .tracks
+        .iter()
+        .filter(|t| t.stamp >= from)
+        .flat_map(|t| t.tracks.iter().map(|track| track.id))
+        .collect();
+    ids.sort_unstable();
+    ids.dedup();
+    Figures {
+        ospa: report.mean_ospa_from(from).unwrap(),
+        right_count: right as f64 / scored.len().max(1) as f64,
+        track_ids: ids.len(),
+    }
+}
+
+#[test]
+fn rendered_cameras_track_the_room_in_3d() {
+    let mut worst_ospa: f64 = 0.0;
+    let mut worst_count: f64 = 1.0;
+    for seed in [1, 2, 3] {
+        let reference = simulated_figures(seed);
+        println!(
+            "seed {seed}, the cameras' simulated sets: mean OSPA {:.3} m, right count {:.1} %, {} track ids",
+            reference.ospa,
+            100.0 * reference.right_count,
+            reference.track_ids
+        );
+        let f = figures(seed);
+        println!(
+            "seed {seed}: mean OSPA {:.3} m, right count {:.1} % of track sets, {} track ids (3 people), from {SCORED_FROM_S} s to {TO_S} s",
+            f.ospa,
+            100.0 * f.right_count,
+            f.track_ids
+        );
+        worst_ospa = worst_ospa.max(f.ospa);
+        worst_count = worst_count.min(f.right_count);
+    }
+    println!(
+        "worst seed: mean OSPA {worst_ospa:.3} m, right count {:.1} %",
+        100.0 * worst_count
+    );
+    // The goal is 0.10 m and 90 %; these are floors under today's figures (seeds 1 to 3: 0.38 to
+    // 0.44 m, 47 to 54 %), against 0.02 m and 100 % for the cameras' simulated sets. The front end
+    // misses a head about a quarter of the time in each camera (mostly heads seen inside a nearer
+    // person's silhouette), which the fusion, told the detection probability is 0.95, answers with
+    // broken and doubled tracks.
+    assert!(worst_ospa <= 0.47, "mean OSPA {worst_ospa:.3} m");
+    assert!(
+        worst_count >= 0.42,
+        "right count {:.1} %",
+        100.0 * worst_count
+    );
+}
