@@ -60,6 +60,7 @@ mod bounds;
 mod camera_pose;
 mod error;
 mod motion;
+pub mod pedestrians;
 mod presets;
 mod random_walk;
 pub mod render;
