@@ -97,8 +97,9 @@ impl SingleViewTracker {
             &image,
             Detection::new(p_d, clutter_rate)?,
         )?;
-        let tracker = LabelledTracker::new(build_filter(&settings, image)?, tracker_config(&settings))
-            .map_err(|e| AgentError::invalid("camera tracker", e.to_string()))?;
+        let tracker =
+            LabelledTracker::new(build_filter(&settings, image)?, tracker_config(&settings))
+                .map_err(|e| AgentError::invalid("camera tracker", e.to_string()))?;
         Ok(Self {
             sensor,
             image,
@@ -259,6 +260,52 @@ mod tests {
             c[0][0] > 0.0 && c[0][0] < 9.0,
             "posterior variance {c:?} not below the noise"
         );
+    }
+
+    #[test]
+    fn a_confirmed_head_is_carried_through_a_missed_detection_and_a_lone_false_box_never_shows() {
+        let mut tracker = SingleViewTracker::new(&camera(), 0.9, 2.0, default_settings()).unwrap();
+        let dt = 0.04;
+        let head = |k: usize| [200.0 + 2.0 * k as f64, 150.0];
+        let mut seen = None;
+        for k in 0..10 {
+            // A false box somewhere new in every frame.
+            let false_box = [50.0 + 37.0 * k as f64, 400.0 - 23.0 * k as f64];
+            let out = tracker.step(k as f64 * dt, &[head(k), false_box]).unwrap();
+            assert!(out.points.len() <= 1, "frame {k}: {out:?}");
+            seen = Some(out);
+        }
+        let seen = seen.unwrap();
+        let missed = tracker.step(10.0 * dt, &[]).unwrap();
+        println!("seen {seen:?}\nmissed {missed:?}");
+        assert_eq!(
+            missed.points.len(),
+            1,
+            "the head is dropped at its first miss"
+        );
+        let predicted_u = head(10)[0];
+        assert!(
+            (missed.points[0][0] - predicted_u).abs() < 2.0,
+            "{missed:?}"
+        );
+        assert!(missed.covariances[0][0][0] > seen.covariances[0][0][0]);
+        let gone = (11..20)
+            .map(|k| tracker.step(k as f64 * dt, &[]).unwrap().points.len())
+            .collect::<Vec<_>>();
+        println!("estimates while unseen: {gone:?}");
+        assert_eq!(
+            gone.last(),
+            Some(&0),
+            "a head unseen for 0.36 s is still published"
+        );
+    }
+
+    fn default_settings() -> SingleViewSettings {
+        SingleViewSettings {
+            accel_noise: DEFAULT_ACCEL_NOISE,
+            birth_rate: DEFAULT_BIRTH_RATE,
+            extraction_threshold: DEFAULT_EXTRACTION_THRESHOLD,
+        }
     }
 
     #[test]

@@ -35,7 +35,8 @@ fn mean_ospa(sequence: &CrowdSequence) -> (f64, f64) {
         start: 1_700_000_000.0,
         fps: sequence.fps,
     };
-    let frames = frontends::camera::read_mot_detections(&det, &MotDetConfig::default(), &rate).unwrap();
+    let frames =
+        frontends::camera::read_mot_detections(&det, &MotDetConfig::default(), &rate).unwrap();
     let truth = true_heads(sequence);
     let camera = CameraModel {
         projection: sequence.projection,
@@ -82,8 +83,8 @@ fn the_tracker_beats_its_detections_on_pedestrian_crowds() {
     let mut worst_ratio: f64 = 0.0;
     for (seed, people) in [(1, 3), (2, 6), (3, 10), (4, 15), (5, 8), (6, 12)] {
         let sequence = CrowdSequence::generate(&CrowdConfig::street(seed, people)).unwrap();
-        let in_view = sequence.truth.iter().map(Vec::len).sum::<usize>() as f64
-            / sequence.truth.len() as f64;
+        let in_view =
+            sequence.truth.iter().map(Vec::len).sum::<usize>() as f64 / sequence.truth.len() as f64;
         let (raw, tracked) = mean_ospa(&sequence);
         let ratio = tracked / raw;
         println!(
@@ -92,5 +93,8 @@ fn the_tracker_beats_its_detections_on_pedestrian_crowds() {
         worst_ratio = worst_ratio.max(ratio);
     }
     println!("worst ratio {worst_ratio:.3}");
-    assert!(worst_ratio <= 0.9, "the tracker is not 10 % better than its detections");
+    assert!(
+        worst_ratio <= 0.9,
+        "the tracker is not 10 % better than its detections"
+    );
 }
