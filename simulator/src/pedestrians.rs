@@ -11,7 +11,7 @@
 //! every exponential(1 s) while fewer than `people` persons are in or heading into view; the scene is
 //! walked for 40 s before the first frame so that it starts populated.
 //!
-//! The camera ([`boxes`]): a box spans the projections of the head (height N(1.72, 0.07) m) and the
+//! The camera (`boxes.rs`, [`CrowdSequence`]): a box spans the projections of the head (height N(1.72, 0.07) m) and the
 //! feet, 0.41 times as wide as it is high, centred under the head; a person is in the truth of a frame
 //! when the top-centre of the box — the head point, the MOT reader's `TopCentre` anchor — is in the image.
 //! Detections: each true box missed with `miss_probability`, its four edges jittered by
