@@ -1,34 +1,57 @@
-//! The camera's single-view tracker: a small 2-D GM-PHD filter on the image plane (Pham's single-view stage,
-//! thesis ch. 7), whose estimates and their 2×2 position covariances are what the camera agent publishes.
+//! The camera's single-view tracker: a labelled 2-D GM-PHD filter on the image plane (Pham's single-view
+//! stage, thesis ch. 7), whose confirmed tracks and their 2×2 position covariances are what the camera
+//! agent publishes.
 //!
 //! - State `[u, v, u̇, v̇]` in pixels and pixels per second, nearly constant velocity
 //!   (`gmphd::ConstantVelocity` with 2 dimensions, white-noise acceleration `accel_noise` px/s²).
 //! - Measurement: `gmphd::PositionSensor` of 2 dimensions over the image rectangle `[0, w] × [0, h]` (pixel
 //!   coordinates taken as the "position"), noise, `p_D` and clutter from the camera's descriptor.
-//! - Birth: `gmphd::GridBirth`, an 8 × 6 grid of components over the image, each with a position spread of
-//!   half a cell and a velocity spread of [`BIRTH_VELOCITY_STD`]; `birth_rate` expected births per frame
-//!   over the whole image (a birth grid rather than measurement-driven birth: that is what gmphd offers, and
-//!   it keeps the filter a pure function of its input).
-//! - Survival [`SURVIVAL_PER_SECOND`] per second, prune/merge/cap 1e-5 / 4 / 100, extraction by label mass
-//!   above `extraction_threshold` (`gmphd::WeightThresholdExtractor`).
+//! - Birth from the measurements (Ristic, Clark, Vo & Vo 2012, `gmphd::AdaptiveBirth`): each head point
+//!   that the tracks do not explain seeds a newborn there for the next frame, position covariance the
+//!   measurement noise, zero-mean velocity with [`BIRTH_VELOCITY_STD`]; `birth_rate` expected new heads
+//!   per frame shared among the unexplained points. A head is picked up at its second detection, wherever
+//!   in the image it appears, where a static grid spreads its birth mass over the whole image.
+//! - Objects leave at the image's edges: outside the image a component does not survive.
+//! - Survival [`SURVIVAL_PER_SECOND`] per second; prune/merge/cap 1e-5 / 4 / 100.
+//! - Identities and their lifecycle from `gmphd::LabelledTracker` (label continuity, Pham ch. 4, and the
+//!   track manager): a label is confirmed when its weight exceeds `extraction_threshold` in
+//!   [`CONFIRM_HITS`] of the last [`CONFIRM_WINDOW`] frames. Only confirmed tracks are published, so a
+//!   false box, which seeds a newborn that the next frame does not find again, never shows.
+//! - A confirmed track that misses its detection is carried for up to [`MAX_COAST_S`]: published at its
+//!   predicted position with the covariance the prediction grew, until a detection takes it up again.
 
-use gmphd::extract::{StateExtractor, WeightThresholdExtractor};
+use gmphd::tracks::TrackManagerConfig;
 use gmphd::{
-    BirthTiming, ConstantVelocity, Detection, FilterConfig, GmPhdFilter, GridBirth,
-    GridBirthConfig, Measurement, PositionSensor, PruneMergeCap, Survival,
+    AdaptiveBirthConfig, BirthTiming, ConstantVelocity, Detection, FilterConfig, GmPhdFilter,
+    LabelledTracker, Measurement, MixtureBirth, PositionSensor, PruneMergeCap, Survival,
+    SurvivalRegion, TrackerConfig,
 };
 use nalgebra::DVector;
 use protocol::CameraModel;
 
 use crate::error::AgentError;
 
+/// Default white-noise acceleration, px/s² (`--accel-noise`).
+pub const DEFAULT_ACCEL_NOISE: f64 = 200.0;
+/// Default expected new heads per frame (`--birth-rate`).
+pub const DEFAULT_BIRTH_RATE: f64 = 0.1;
+/// Default weight of a label that counts as a detection of its track (`--extraction-threshold`).
+pub const DEFAULT_EXTRACTION_THRESHOLD: f64 = 0.5;
 /// Probability that a tracked head is still in view one second later.
 pub const SURVIVAL_PER_SECOND: f64 = 0.9;
 /// Spread of a newborn head's image velocity, px/s.
 pub const BIRTH_VELOCITY_STD: f64 = 100.0;
-/// Birth grid cells along the image's width and height.
-const BIRTH_CELLS: [usize; 2] = [8, 6];
-/// Interval assumed before the first frame, so that its prediction already adds births.
+/// Frames looked at for confirmation, and the hits among them that confirm a track.
+pub const CONFIRM_WINDOW: usize = 3;
+/// See [`CONFIRM_WINDOW`].
+pub const CONFIRM_HITS: usize = 2;
+/// Longest time a confirmed track is published without a detection, s.
+pub const MAX_COAST_S: f64 = 0.2;
+/// A label lighter than this counts as missed (one miss at `p_D` 0.9 leaves 0.1).
+const DELETE_THRESHOLD: f64 = 0.15;
+/// Time without detection after which a track is deleted, s.
+const DELETE_AFTER_S: f64 = 0.5;
+/// Interval assumed before the first frame.
 const FIRST_INTERVAL_S: f64 = 0.04;
 
 /// The tracker's tunable settings (the command-line flags).
@@ -38,7 +61,7 @@ pub struct SingleViewSettings {
     pub accel_noise: f64,
     /// Expected new objects per frame over the whole image.
     pub birth_rate: f64,
-    /// A label whose mass exceeds this gives an estimate.
+    /// A label whose weight exceeds this in a frame counts as detected there.
     pub extraction_threshold: f64,
 }
 
@@ -51,14 +74,11 @@ pub struct SingleViewEstimates {
     pub covariances: Vec<Vec<Vec<f64>>>,
 }
 
-/// A 2-D GM-PHD filter on one camera's image plane.
+/// A labelled 2-D GM-PHD tracker on one camera's image plane.
 pub struct SingleViewTracker {
-    settings: SingleViewSettings,
-    camera: CameraModel,
     sensor: PositionSensor,
-    extractor: WeightThresholdExtractor,
-    /// Built at the first frame, whose stamp starts the filter's clock.
-    filter: Option<GmPhdFilter>,
+    image: [f64; 2],
+    tracker: LabelledTracker,
 }
 
 impl SingleViewTracker {
@@ -69,73 +89,53 @@ impl SingleViewTracker {
         clutter_rate: f64,
         settings: SingleViewSettings,
     ) -> Result<Self, AgentError> {
-        for (flag, value) in [
-            ("--accel-noise", settings.accel_noise),
-            ("--birth-rate", settings.birth_rate),
-            ("--extraction-threshold", settings.extraction_threshold),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(AgentError::invalid(
-                    flag,
-                    format!("{value} is not a positive number"),
-                ));
-            }
-        }
-        let [width, height] = camera.image_size.map(f64::from);
+        check_settings(&settings)?;
+        let image = camera.image_size.map(f64::from);
         let sensor = PositionSensor::new(
             &camera.noise_std,
             &[0.0, 0.0],
-            &[width, height],
+            &image,
             Detection::new(p_d, clutter_rate)?,
         )?;
-        let extractor = WeightThresholdExtractor {
-            threshold: settings.extraction_threshold,
-            ..WeightThresholdExtractor::default()
-        };
-        let tracker = Self {
-            settings,
-            camera: camera.clone(),
+        let tracker =
+            LabelledTracker::new(build_filter(&settings, image)?, tracker_config(&settings))
+                .map_err(|e| AgentError::invalid("camera tracker", e.to_string()))?;
+        Ok(Self {
             sensor,
-            extractor,
-            filter: None,
-        };
-        // Build a filter once now so that bad settings fail at start, not at the first frame.
-        tracker.build_filter(0.0)?;
-        Ok(tracker)
+            image,
+            tracker,
+        })
     }
 
-    /// Runs one frame of head points (pixels) taken at `stamp` through the filter and returns its estimates.
+    /// Runs one frame of head points (pixels) taken at `stamp` through the tracker and returns its
+    /// confirmed tracks: those detected within the last [`MAX_COAST_S`], inside the image.
     pub fn step(
         &mut self,
         stamp: f64,
         points: &[[f64; 2]],
     ) -> Result<SingleViewEstimates, AgentError> {
-        let filter = match &mut self.filter {
-            Some(filter) => filter,
-            None => self
-                .filter
-                .insert(self.build_filter(stamp - FIRST_INTERVAL_S)?),
-        };
         let measurements: Vec<Measurement> = points
             .iter()
             .map(|p| Measurement::new(DVector::from_column_slice(p)))
             .collect();
-        filter.predict_to(stamp)?;
-        filter.update(&self.sensor, &measurements)?;
-        filter.reduce();
-        let estimates = self
-            .extractor
-            .extract(filter.intensity())
-            .map_err(|e| AgentError::invalid("camera tracker extraction", e.to_string()))?;
+        self.tracker
+            .step(stamp, &self.sensor, &measurements)
+            .map_err(|e| AgentError::invalid("camera tracker", e.to_string()))?;
         let mut out = SingleViewEstimates {
-            points: Vec::with_capacity(estimates.len()),
-            covariances: Vec::with_capacity(estimates.len()),
+            points: Vec::new(),
+            covariances: Vec::new(),
         };
-        for estimate in estimates {
-            let p = &estimate.cov;
+        let [width, height] = self.image;
+        for track in self.tracker.confirmed_tracks() {
+            let (u, v) = (track.mean[0], track.mean[1]);
+            let inside = (0.0..=width).contains(&u) && (0.0..=height).contains(&v);
+            if !inside || stamp - track.last_update > MAX_COAST_S + 1e-9 {
+                continue;
+            }
+            let p = &track.cov;
             // The symmetric part: the filter's arithmetic may leave asymmetry in the last bits.
             let off_diagonal = 0.5 * (p[(0, 1)] + p[(1, 0)]);
-            out.points.push(vec![estimate.mean[0], estimate.mean[1]]);
+            out.points.push(vec![u, v]);
             out.covariances.push(vec![
                 vec![p[(0, 0)], off_diagonal],
                 vec![off_diagonal, p[(1, 1)]],
@@ -143,35 +143,81 @@ impl SingleViewTracker {
         }
         Ok(out)
     }
+}
 
-    /// A fresh filter whose clock starts at `start_time`.
-    fn build_filter(&self, start_time: f64) -> Result<GmPhdFilter, AgentError> {
-        let [width, height] = self.camera.image_size.map(f64::from);
-        let motion = ConstantVelocity::new(2, self.settings.accel_noise)?;
-        let birth = GridBirth::new(&GridBirthConfig {
-            region_min: vec![0.0, 0.0],
-            region_max: vec![width, height],
-            cells: BIRTH_CELLS.to_vec(),
-            state_dim: 4,
-            velocity_std: BIRTH_VELOCITY_STD,
-            extra_std: 0.0,
-            total_rate: self.settings.birth_rate,
-            timing: BirthTiming::PerStep,
-        })?;
-        let reducer = PruneMergeCap::new(1e-5, 4.0, 100)?;
-        let config = FilterConfig {
-            survival: Survival::PerSecond(SURVIVAL_PER_SECOND),
-            unscented: Default::default(),
-        };
-        Ok(GmPhdFilter::new(
-            Box::new(motion),
-            Box::new(birth),
-            Box::new(reducer),
-            config,
-            start_time,
-        )?)
+/// Refuses a setting that is not a positive number, naming its flag.
+fn check_settings(settings: &SingleViewSettings) -> Result<(), AgentError> {
+    for (flag, value) in [
+        ("--accel-noise", settings.accel_noise),
+        ("--birth-rate", settings.birth_rate),
+        ("--extraction-threshold", settings.extraction_threshold),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(AgentError::invalid(
+                flag,
+                format!("{value} is not a positive number"),
+            ));
+        }
+    }
+    if settings.extraction_threshold >= 1.0 {
+        return Err(AgentError::invalid(
+            "--extraction-threshold",
+            format!("{} is not below 1", settings.extraction_threshold),
+        ));
+    }
+    Ok(())
+}
+
+/// The filter: nearly constant velocity, births from the measurements, death at the image's edges.
+fn build_filter(settings: &SingleViewSettings, image: [f64; 2]) -> Result<GmPhdFilter, AgentError> {
+    let motion = ConstantVelocity::new(2, settings.accel_noise)?;
+    let no_static_birth = MixtureBirth::new(4, Vec::new(), BirthTiming::PerStep)?;
+    let reducer = PruneMergeCap::new(1e-5, 4.0, 100)?;
+    let config = FilterConfig {
+        survival: Survival::PerSecond(SURVIVAL_PER_SECOND),
+        unscented: Default::default(),
+    };
+    let birth = AdaptiveBirthConfig {
+        rate: settings.birth_rate,
+        position_inflation: 1.0,
+        velocity_std: BIRTH_VELOCITY_STD,
+        extra_std: 0.0,
+        min_weight: 1e-6,
+    };
+    Ok(GmPhdFilter::new(
+        Box::new(motion),
+        Box::new(no_static_birth),
+        Box::new(reducer),
+        config,
+        0.0,
+    )?
+    .with_adaptive_birth(birth)?
+    .with_survival_region(SurvivalRegion::new(vec![0.0, 0.0], image.to_vec())?)?)
+}
+
+/// Label continuity and the track lifecycle of the single view.
+fn tracker_config(settings: &SingleViewSettings) -> TrackerConfig {
+    let threshold = settings.extraction_threshold;
+    TrackerConfig {
+        extraction_threshold: threshold,
+        merge_threshold: 4.0,
+        first_interval_s: FIRST_INTERVAL_S,
+        tracks: TrackManagerConfig {
+            confirm_threshold: threshold,
+            confirm_window: CONFIRM_WINDOW,
+            confirm_hits: CONFIRM_HITS,
+            confirm_at_once_threshold: None,
+            delete_threshold: DELETE_THRESHOLD.min(threshold),
+            delete_after_sets: usize::MAX,
+            max_coast_s: DELETE_AFTER_S,
+        },
+        ..TrackerConfig::default()
     }
 }
+
+#[cfg(test)]
+#[path = "camera_tracker_crowd_tests.rs"]
+mod crowd_tests;
 
 #[cfg(test)]
 mod tests {
@@ -214,6 +260,52 @@ mod tests {
             c[0][0] > 0.0 && c[0][0] < 9.0,
             "posterior variance {c:?} not below the noise"
         );
+    }
+
+    #[test]
+    fn a_confirmed_head_is_carried_through_a_missed_detection_and_a_lone_false_box_never_shows() {
+        let mut tracker = SingleViewTracker::new(&camera(), 0.9, 2.0, default_settings()).unwrap();
+        let dt = 0.04;
+        let head = |k: usize| [200.0 + 2.0 * k as f64, 150.0];
+        let mut seen = None;
+        for k in 0..10 {
+            // A false box somewhere new in every frame.
+            let false_box = [50.0 + 37.0 * k as f64, 400.0 - 23.0 * k as f64];
+            let out = tracker.step(k as f64 * dt, &[head(k), false_box]).unwrap();
+            assert!(out.points.len() <= 1, "frame {k}: {out:?}");
+            seen = Some(out);
+        }
+        let seen = seen.unwrap();
+        let missed = tracker.step(10.0 * dt, &[]).unwrap();
+        println!("seen {seen:?}\nmissed {missed:?}");
+        assert_eq!(
+            missed.points.len(),
+            1,
+            "the head is dropped at its first miss"
+        );
+        let predicted_u = head(10)[0];
+        assert!(
+            (missed.points[0][0] - predicted_u).abs() < 2.0,
+            "{missed:?}"
+        );
+        assert!(missed.covariances[0][0][0] > seen.covariances[0][0][0]);
+        let gone = (11..20)
+            .map(|k| tracker.step(k as f64 * dt, &[]).unwrap().points.len())
+            .collect::<Vec<_>>();
+        println!("estimates while unseen: {gone:?}");
+        assert_eq!(
+            gone.last(),
+            Some(&0),
+            "a head unseen for 0.36 s is still published"
+        );
+    }
+
+    fn default_settings() -> SingleViewSettings {
+        SingleViewSettings {
+            accel_noise: DEFAULT_ACCEL_NOISE,
+            birth_rate: DEFAULT_BIRTH_RATE,
+            extraction_threshold: DEFAULT_EXTRACTION_THRESHOLD,
+        }
     }
 
     #[test]

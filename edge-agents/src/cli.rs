@@ -177,13 +177,13 @@ pub struct CameraCommand {
     #[arg(long)]
     pub raw: bool,
     /// Tracker: white-noise acceleration of a head on the image plane, px/s².
-    #[arg(long, default_value_t = 200.0, value_name = "PX_PER_S2")]
+    #[arg(long, default_value_t = crate::camera_tracker::DEFAULT_ACCEL_NOISE, value_name = "PX_PER_S2")]
     pub accel_noise: f64,
     /// Tracker: expected number of new objects per frame over the whole image.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = crate::camera_tracker::DEFAULT_BIRTH_RATE)]
     pub birth_rate: f64,
     /// Tracker: estimates are components (labels) with at least this weight.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = crate::camera_tracker::DEFAULT_EXTRACTION_THRESHOLD)]
     pub extraction_threshold: f64,
 }
 

@@ -18,6 +18,9 @@
 //! pairs, a LIDAR) and [`dense`] (50 targets, 8 sensors at 30 Hz, for benchmarks), also as
 //! `scenarios/room.toml` and `scenarios/dense.toml`.
 //!
+//! [`pedestrians`] is apart from scenarios: crowds walking on a ground plane under one camera, as MOT
+//! ground-truth boxes and a detector's `det.txt` (misses, false boxes, jitter), for image-plane trackers.
+//!
 //! # Scenario files (TOML)
 //!
 //! `SCENARIOS.md` next to this crate has a complete commented example. Keys (unknown keys
@@ -60,6 +63,7 @@ mod bounds;
 mod camera_pose;
 mod error;
 mod motion;
+pub mod pedestrians;
 mod presets;
 mod random_walk;
 pub mod render;
