@@ -64,7 +64,7 @@ impl DescriptorCalibration {
     pub fn observe(&mut self, stamp: f64, measurements: &[Vec<f64>]) -> Option<SensorDescriptor> {
         self.estimator.observe(stamp, measurements);
         self.frames += 1;
-        if self.frames % CHECK_EVERY != 0 {
+        if !self.frames.is_multiple_of(CHECK_EVERY) {
             return None;
         }
         let estimate = self.estimator.estimate()?;

@@ -63,16 +63,17 @@ impl AveragedSpectra {
     /// at the lag of channels that are exact delayed copies, used to normalise it to 1.
     pub fn ml_weighted(&self, band: (usize, usize), out: &mut [Complex<f64>]) -> f64 {
         let mut weight_sum = 0.0;
-        for k in band.0..=band.1 {
+        let bins = band.0..=band.1;
+        for (k, slot) in bins.clone().zip(&mut out[bins]) {
             let magnitude = self.cross[k].norm();
             let powers = self.power1[k] * self.power2[k];
             if magnitude <= 0.0 || powers <= 0.0 {
-                out[k] = Complex::new(0.0, 0.0);
+                *slot = Complex::new(0.0, 0.0);
                 continue;
             }
             let coherence = (magnitude * magnitude / powers).min(MAX_COHERENCE);
             let weight = coherence / (1.0 - coherence);
-            out[k] = self.cross[k] * (weight / magnitude);
+            *slot = self.cross[k] * (weight / magnitude);
             weight_sum += 2.0 * weight;
         }
         weight_sum
