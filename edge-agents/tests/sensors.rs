@@ -207,8 +207,16 @@ fn mic_pair_turns_a_delayed_stereo_recording_into_its_tdoa() {
     let wav = dir.path().join("pair.wav");
     // Mic 2 hears the sound 8 samples (0.5 ms) after mic 1: the source is closer to mic 1, tau > 0.
     write_delayed_noise(&wav, 1.0, 8);
+    // A broadband noise source looks like background noise to the speech-presence check: off.
+    let frontend = dir.path().join("frontend.toml");
+    write(
+        &frontend,
+        "mic_distance = 0.5\nmin_spectral_contrast = 0.0\n",
+    );
     let replay = check_replay(&edge_agent_ok(&[
         "mic-pair",
+        "--frontend-config",
+        path_str(&frontend),
         "--descriptor",
         path_str(&descriptor),
         "--wav",

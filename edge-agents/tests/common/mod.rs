@@ -35,6 +35,8 @@ pub fn edge_agent_ok(args: &[&str]) -> Vec<u8> {
 pub struct Replay {
     /// Descriptor lines, in order.
     pub descriptors: Vec<SensorDescriptor>,
+    /// Descriptors announced after data (a front end's refined figures), in order.
+    pub refined_descriptors: Vec<SensorDescriptor>,
     /// Measurement lines, in order.
     pub sets: Vec<MeasurementSet>,
     /// Number of truth lines.
@@ -42,12 +44,13 @@ pub struct Replay {
 }
 
 /// Parses replay bytes and checks: every line decodes and validates as a protocol `ReplayLine`; all
-/// descriptors come first; stamps never decrease; each sensor's `seq` runs 0, 1, 2, …; every set validates
+/// descriptors come first, except a known sensor's refined one; stamps never decrease; each sensor's `seq` runs 0, 1, 2, …; every set validates
 /// against its sensor's descriptor.
 pub fn check_replay(bytes: &[u8]) -> Replay {
     let text = std::str::from_utf8(bytes).expect("replay output is UTF-8");
     let mut replay = Replay {
         descriptors: Vec::new(),
+        refined_descriptors: Vec::new(),
         sets: Vec::new(),
         truth_lines: 0,
     };
@@ -69,13 +72,18 @@ pub fn check_replay(bytes: &[u8]) -> Replay {
         }
         match parsed {
             ReplayLine::Descriptor(d) => {
-                assert!(
-                    replay.sets.is_empty() && replay.truth_lines == 0,
-                    "line {}: descriptor after data",
-                    number + 1
-                );
-                next_seq.insert(d.sensor.to_string(), 0);
-                replay.descriptors.push(d);
+                // After data, only a known sensor's refined descriptor may follow; its numbering goes on.
+                if replay.sets.is_empty() && replay.truth_lines == 0 {
+                    next_seq.insert(d.sensor.to_string(), 0);
+                    replay.descriptors.push(d);
+                } else {
+                    assert!(
+                        next_seq.contains_key(d.sensor.as_str()),
+                        "line {}: descriptor of a new sensor after data",
+                        number + 1
+                    );
+                    replay.refined_descriptors.push(d);
+                }
             }
             ReplayLine::Measurements(set) => {
                 let descriptor = replay
