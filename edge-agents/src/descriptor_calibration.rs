@@ -128,11 +128,7 @@ fn estimator_for(model: &SensorModel) -> Option<RateEstimator> {
             ))
         }
         SensorModel::MicPair(pair) => {
-            let baseline = (0..3)
-                .map(|i| (pair.mics[0][i] - pair.mics[1][i]).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            let max_delay = baseline / pair.speed_of_sound;
+            let max_delay = pair.baseline() / pair.speed_of_sound;
             Some(RateEstimator::new(
                 &[pair.noise_std],
                 &[max_delay * TALKER_TURN_RATE],

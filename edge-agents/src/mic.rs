@@ -140,13 +140,7 @@ fn live_prepared(
 /// The front end's configuration: the TOML file, or the defaults with the descriptor's baseline and speed
 /// of sound (so that the search range ±d/c is the descriptor's).
 fn frontend_config(path: Option<&Path>, model: &MicPairModel) -> Result<MicPairConfig, AgentError> {
-    let [m1, m2] = model.mics;
-    let baseline = m1
-        .iter()
-        .zip(&m2)
-        .map(|(a, b)| (a - b) * (a - b))
-        .sum::<f64>()
-        .sqrt();
+    let baseline = model.baseline();
     let Some(path) = path else {
         let mut config = MicPairConfig::new(baseline);
         config.speed_of_sound = model.speed_of_sound;

@@ -42,20 +42,7 @@ impl ClusteringConfig {
                 value: self.tolerance,
             });
         }
-        if self.min_points == 0 {
-            return Err(LidarConfigError::TooSmall {
-                name: "clustering.min_points",
-                value: 0,
-                minimum: 1,
-            });
-        }
-        if self.max_points < self.min_points {
-            return Err(LidarConfigError::ClusterSizeRange {
-                min: self.min_points,
-                max: self.max_points,
-            });
-        }
-        Ok(())
+        check_point_range("clustering.min_points", self.min_points, self.max_points)
     }
 }
 
@@ -117,6 +104,26 @@ pub fn euclidean_clusters(points: &[[f64; 3]], config: &ClusteringConfig) -> Vec
 }
 
 /// Mean of the indexed points.
+/// Checks an object's size limits in points: at least one, and `max` not below `min` (`min_name` is the
+/// setting's name in errors).
+pub(crate) fn check_point_range(
+    min_name: &'static str,
+    min: usize,
+    max: usize,
+) -> Result<(), LidarConfigError> {
+    if min == 0 {
+        return Err(LidarConfigError::TooSmall {
+            name: min_name,
+            value: 0,
+            minimum: 1,
+        });
+    }
+    if max < min {
+        return Err(LidarConfigError::ClusterSizeRange { min, max });
+    }
+    Ok(())
+}
+
 fn centroid(points: &[[f64; 3]], indices: &[usize]) -> [f64; 3] {
     let mut sum = [0.0; 3];
     for &index in indices {

@@ -8,6 +8,7 @@
 //! by gaps wider than `ring_gap_deg`). A cloud with more rings than `max_rings` has no such
 //! structure, and the pipeline falls back to Euclidean clustering.
 
+use super::clustering::check_point_range;
 use super::error::LidarConfigError;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -79,20 +80,7 @@ impl RangeImageConfig {
                 value: *bad,
             });
         }
-        if self.min_points == 0 {
-            return Err(LidarConfigError::TooSmall {
-                name: "range_image.min_points",
-                value: 0,
-                minimum: 1,
-            });
-        }
-        if self.max_points < self.min_points {
-            return Err(LidarConfigError::ClusterSizeRange {
-                min: self.min_points,
-                max: self.max_points,
-            });
-        }
-        Ok(())
+        check_point_range("range_image.min_points", self.min_points, self.max_points)
     }
 }
 

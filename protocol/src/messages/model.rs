@@ -89,6 +89,14 @@ pub struct MicPairModel {
     pub noise_std: f64,
 }
 
+impl MicPairModel {
+    /// Distance between the two microphones, m: with the speed of sound it bounds |tau| by d/c.
+    pub fn baseline(&self) -> f64 {
+        let [m1, m2] = self.mics;
+        (0..3).map(|i| (m1[i] - m2[i]).powi(2)).sum::<f64>().sqrt()
+    }
+}
+
 fn default_speed_of_sound() -> f64 {
     DEFAULT_SPEED_OF_SOUND
 }
