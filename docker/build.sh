@@ -2,7 +2,8 @@
 # Builds the Docker images of the deployment (docker/README.md), from a clean clone, without a registry:
 #   1. the workspace's static binaries (reused when .ci/run already built them: same target and flags);
 #   2. zenohd 1.10.2 from crates.io, static, cached under the target directory;
-#   3. test TLS certificates and credentials for the secure profile, into docker/certs/ (git-ignored);
+#   3. the secure profile's identities (docker/deployment.txt): a TLS client certificate each, passwords,
+#      the router's access control, into docker/certs/ (git-ignored);
 #   4. one FROM-scratch image per program: fusion/zenohd, fusion/server, fusion/edge-agent, fusion/checker,
 #      fusion/view.
 # Every step is skipped when its result is already there, so a second run takes seconds.
@@ -59,7 +60,7 @@ echo "    $(zenohd_version)"
 done_step
 
 # ------------------------------------------------------------------ 3. certificates and credentials
-step "TLS certificates and credentials for the secure profile (docker/certs/)"
+step "identities of docker/deployment.txt for the secure profile: certificates, passwords, access control (docker/certs/)"
 "$here/make-certs.sh" "$here/certs"
 done_step
 

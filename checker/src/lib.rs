@@ -3,6 +3,7 @@
 //! and query `tracks` and `status`. Used by `fusion-checker` (compose tests), `fusion-demo` and
 //! the integration tests.
 
+pub mod probe;
 pub mod processes;
 pub mod rogue;
 

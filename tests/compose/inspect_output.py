@@ -13,6 +13,13 @@
                           both, is its most frequent track id the same? Prints one line per object and
                           exits 1 when an id changed or fewer than MIN_OBJECTS objects could be compared.
   view-scene           -> reads fusion-view's /api/scene JSON and prints "tracks sensors alive_sensors site"
+  sniff                -> reads `fusion-checker sniff` and prints "forged forged_status genuine_victim genuine_tracks
+                          status_replies" (VICTIM, default lidar: genuine sets of that sensor seen)
+  impostor             -> reads `fusion-checker impersonate` and prints "puts queries_answered"
+  role                 -> reads `fusion-checker status --instance ID` and prints "role lost" (its "role", or
+                          "none"; the sum of its sensors' lost counters)
+  sites                -> reads `fusion-checker sites` and prints "site:tracks:alive" per site, sorted
+  gaps                 -> reads `fusion-checker gaps` and prints "sets max_gap_s"
 
 Only the standard library: CI machines have a plain Python 3.
 """
@@ -65,6 +72,26 @@ def apart_windows(lines, min_dist, min_len):
     return [(a, b) for a, b in windows if b - a >= min_len]
 
 
+def probe_line(command, doc, args):
+    """One line of figures from the checker's probes (impostor, sniffer, instance status, sites)."""
+    if command == "sniff":
+        victim = args[0] if args else "lidar"
+        genuine = doc["genuine"]
+        tracks = sum(n for key, n in genuine.items() if key.endswith("/tracks"))
+        figures = (sum(doc["forged"].values()), doc["forged_status_replies"],
+                   genuine.get(f"{victim}/measurements", 0), tracks, doc["status_replies"])
+        return " ".join(str(f) for f in figures)
+    if command == "impostor":
+        return f"{sum(doc['puts'].values())} {doc['queries_answered']}"
+    if command == "role":
+        lost = sum(s.get("lost", 0) for s in doc.get("sensors", []))
+        return f"{doc.get('role') or 'none'} {lost}"
+    if command == "gaps":
+        return f"{doc['sets']} {doc['max_gap_s']:.2f}"
+    sites = sorted(set(doc["tracks"]) | set(doc["status"]))
+    return " ".join(f"{s}:{doc['tracks'].get(s, 0)}:{doc['status'].get(s, 0)}" for s in sites)
+
+
 def main(argv):
     command = argv[1]
     if command == "apart-windows":
@@ -88,6 +115,9 @@ def main(argv):
         scene = load_json(sys.stdin.read())
         alive = sum(1 for s in scene["sensors"] if s["alive"])
         print(len(scene["tracks"]), len(scene["sensors"]), alive, scene["site"] or "-")
+        return 0
+    if command in ("sniff", "impostor", "role", "sites", "gaps"):
+        print(probe_line(command, load_json(sys.stdin.read()), argv[2:]))
         return 0
     status = load_json(sys.stdin.read())
     if command == "status-sensor":

@@ -3,14 +3,20 @@
 # Needs the images of docker/build.sh. Brings the stack up under a unique project name, injects faults
 # with docker commands, measures with fusion-checker containers, prints every figure, tears everything
 # down (volumes included) on exit, and exits non-zero when any check failed.
-#   tests/compose/run.sh              # all checks, about 4 minutes
+#   tests/compose/run.sh              # all checks, about 6 minutes
 #   KEEP_LOGS=1 tests/compose/run.sh   # print the services' logs at the end even when all passed
+#   ONLY=secure,sites tests/compose/run.sh   # only these parts, of: plain (checks 1 to 6), secure (7: mTLS,
+#                                            # passwords, access control), standby (8), sites (9)
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
 plain=(-f "$repo/docker/docker-compose.yml")
 secure=(-f "$repo/docker/docker-compose.yml" -f "$repo/docker/docker-compose.secure.yml")
+standby=(-f "$repo/docker/docker-compose.yml" -f "$repo/docker/docker-compose.standby.yml")
+sites=(-f "$repo/docker/docker-compose.sites.yml")
+ONLY="${ONLY:-plain,secure,standby,sites}"
+want() { [[ ",$ONLY," == *",$1,"* ]]; }
 inspect() { python3 "$here/inspect_output.py" "$@"; }
 
 export SEED="${SEED:-7}"
@@ -19,6 +25,8 @@ export FUSION_IMAGE_TAG="${FUSION_IMAGE_TAG:-latest}"
 # fusion-view's port on the host: a free one, so that the tests never collide with a view already running.
 export VIEW_PORT="${VIEW_PORT:-$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')}"
 SENSORS=(cam1 cam2 mics_n mics_e mics_s mics_w lidar)
+# The long-running services of the project under test (start_project sets them).
+SERVICES=(router server "${SENSORS[@]}")
 # People enter the default room at 0.5, 2 and 4.5 s; their tracks need a few sets to be confirmed.
 ALL_IN_VIEW_S=8
 
@@ -45,12 +53,15 @@ le() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; }
 project=""
 files=()
 projects=()
+declare -A project_files
 dc() { "${COMPOSE[@]}" -p "$project" "${files[@]}" "$@"; }
 start_project() { # name, files...
   project="$1"
   shift
   files=("$@")
   projects+=("$project")
+  project_files[$project]="$*"
+  SERVICES=(router server "${SENSORS[@]}")
 }
 
 summary() {
@@ -68,12 +79,14 @@ teardown() {
   if [ "$finished" = 0 ]; then
     fail "the script stopped early (exit $code) after the last check above"
   fi
+  local p f
   for p in "${projects[@]}"; do
+    read -r -a f <<<"${project_files[$p]}"
     if [ "$failed" = 1 ] || [ "${KEEP_LOGS:-0}" = 1 ]; then
       printf '\n--- logs of %s (last 25 lines per service)\n' "$p"
-      "${COMPOSE[@]}" -p "$p" "${secure[@]}" logs --no-color --tail 25 2>/dev/null || true
+      "${COMPOSE[@]}" -p "$p" "${f[@]}" logs --no-color --tail 25 2>/dev/null || true
     fi
-    "${COMPOSE[@]}" -p "$p" "${secure[@]}" down -v --remove-orphans >/dev/null 2>&1 || true
+    "${COMPOSE[@]}" -p "$p" "${f[@]}" down -v --remove-orphans >/dev/null 2>&1 || true
   done
   summary
   exit "$failed"
@@ -113,7 +126,7 @@ field() { # field N of a sensor_status line (1 = alive, 2 = received, 3 = proces
 declare -A started_at
 record_started() {
   local s
-  for s in router server "${SENSORS[@]}"; do
+  for s in "${SERVICES[@]}"; do
     started_at[$s]="$(docker inspect --format '{{.State.StartedAt}}' "$(container_of "$s")")"
   done
 }
@@ -121,7 +134,7 @@ record_started() {
 check_no_restarts() { # label, services we restarted ourselves...
   local label="$1" s cid state ok=1
   shift
-  for s in router server "${SENSORS[@]}"; do
+  for s in "${SERVICES[@]}"; do
     cid="$(container_of "$s")"
     state="$(docker inspect --format '{{.State.Status}} {{.RestartCount}} {{.State.StartedAt}}' "$cid")"
     read -r status restarts started <<<"$state"
@@ -134,7 +147,7 @@ check_no_restarts() { # label, services we restarted ourselves...
     fi
   done
   if [ "$ok" = 1 ]; then
-    pass "$label: all 9 containers running, RestartCount 0, none restarted by itself"
+    pass "$label: all ${#SERVICES[@]} containers running, RestartCount 0, none restarted by itself"
   else
     fail "$label: a container crashed or restarted"
   fi
@@ -212,6 +225,7 @@ all_sensors_alive() { # label
 }
 
 # ================================================================== plain profile
+if want plain; then
 start_project "fusiontest$$" "${plain[@]}"
 section "plain profile: up"
 bring_up "startup"
@@ -376,23 +390,28 @@ check_no_restarts "bad input"
 
 section "plain profile: down"
 dc down -v --remove-orphans >/dev/null 2>&1
+fi
 
 # ================================================================== secure profile
+if want secure; then
 start_project "fusionsecure$$" "${secure[@]}"
-section "7. secure profile: TLS and user/password on the router"
+section "7. secure profile: mutual TLS, user/password and access control on the router"
 bring_up "secure startup (agents and server with credentials)"
 watch_ospa "secure: honest agents with credentials" 10 0.2
 all_sensors_alive "secure"
 read -r und0 unk0 inv0 late0 <<<"$(rejected_counts)"
 # A rogue must fail to open its session; the reason shows where: plain TCP on the TLS port (dropped), the
-# router closing the handshake at InitSyn (no credentials offered) or at OpenSyn (wrong password's HMAC).
+# TLS handshake (no client certificate), or the router closing Zenoh's handshake at OpenSyn (a valid
+# certificate but a wrong password's HMAC).
 refused() { # service, label, checker arguments...
   local service="$1" label="$2" out code=0 reason
   shift 2
   out="$(dc run --rm -T -e NO_COLOR=1 "$service" "$@" 2>&1)" || code=$?
   reason="$(grep -o -m1 -e 'Received a close message ([^)]*) in response to an [A-Za-z]*' \
-    -e 'Connection refused' -e 'early eof' <<<"$out" || true)"
+    -e 'Connection refused' -e 'early eof' -e 'Unable to connect to any of' <<<"$out" || true)"
   [ "$reason" = "early eof" ] && reason="the TLS listener dropped the plain TCP connection: early eof"
+  # zenohd logs "peer sent no certificates" and ends the TLS handshake: the link never opens.
+  [ "$reason" = "Unable to connect to any of" ] && reason="mutual TLS: the router ended the TLS handshake, no client certificate"
   if [ "$code" != 0 ] && grep -q "opening the zenoh session failed" <<<"$out"; then
     pass "secure: $label: refused at session open (${reason:-no reason logged})"
   else
@@ -400,16 +419,25 @@ refused() { # service, label, checker arguments...
   fi
 }
 refused rogue-plain "plain TCP client reading tracks" tracks
-refused rogue-anonymous "TLS client without credentials reading tracks" tracks
-refused rogue-anonymous "TLS client without credentials publishing measurements" rogue --victim cam1 --duration 3
-refused rogue-wrong-password "TLS client with a wrong password reading tracks" tracks
+refused rogue-anonymous "TLS client without a certificate or credentials reading tracks" tracks
+refused rogue-anonymous "TLS client without a certificate or credentials publishing measurements" rogue --victim cam1 --duration 3
+refused rogue-wrong-password "TLS client with a valid certificate but a wrong password reading tracks" tracks
 read -r und1 unk1 inv1 late1 <<<"$(rejected_counts)"
 if [ "$und1" = "$und0" ] && [ "$unk1" = "$unk0" ] && [ "$inv1" = "$inv0" ]; then
   pass "secure: nothing of the rogues reached the server (rejected counters unchanged: $und1 $unk1 $inv1)"
 else
   fail "secure: rejected counters moved ($und0 $unk0 $inv0 -> $und1 $unk1 $inv1)"
 fi
+
+source "$here/access_control.sh"
 check_no_restarts "secure"
+section "secure profile: down"
+dc down -v --remove-orphans >/dev/null 2>&1
+fi
+
+# ================================================================== hot standby, many sites
+want standby && source "$here/standby.sh"
+want sites && source "$here/sites.sh"
 
 # ================================================================== done (the summary is printed on exit)
 finished=1

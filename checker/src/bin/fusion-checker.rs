@@ -1,11 +1,13 @@
 //! `fusion-checker`: a client of a running deployment, for people and for the compose tests.
 //! It queries `tracks` and `status`, scores the published tracks against the simulators' truth,
-//! follows which track ids the true objects get, and can play a rogue publisher.
+//! follows which track ids the true objects get, can play a rogue publisher or an impostor, and
+//! asks one server instance or every site (`probe`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use checker::probe;
 use checker::rogue::run_rogue;
 use checker::{query_status, query_tracks, Observer};
 use clap::{Parser, Subcommand};
@@ -35,8 +37,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print the server's status (JSON).
-    Status,
+    /// Print the server's status (JSON): the site's active server, or one instance's own.
+    Status {
+        /// Ask this server instance (`fusion/<site>/server/<instance>/status`, with its role).
+        #[arg(long)]
+        instance: Option<String>,
+    },
     /// Print the server's current tracks (JSON).
     Tracks,
     /// Score published tracks against the truth for a while; fail when OSPA is too high.
@@ -75,6 +81,41 @@ enum Command {
         #[arg(long, default_value_t = 200.0)]
         rate: f64,
     },
+    /// Write where this identity may not: forged sets on `victim`'s key, forged track sets,
+    /// a fake status queryable; prints what was tried (JSON).
+    Impersonate {
+        /// The sensor whose measurement key is abused.
+        #[arg(long, default_value = "lidar")]
+        victim: String,
+        /// Seconds to misbehave.
+        #[arg(long, default_value_t = 5.0)]
+        duration: f64,
+        /// Rounds of puts per second.
+        #[arg(long, default_value_t = 20.0)]
+        rate: f64,
+    },
+    /// Subscribe to everything of the site and query its status for a while; print what was
+    /// genuine and what was forged (JSON).
+    Sniff {
+        /// Seconds to listen.
+        #[arg(long, default_value_t = 5.0)]
+        duration: f64,
+    },
+    /// Query `fusion/*/tracks` and `fusion/*/status`: every site's track count and live sensors (JSON).
+    Sites {
+        /// Ask again until each of these sites answers with tracks and a status (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        expect: Vec<String>,
+        /// Seconds to keep asking with `--expect`; exit 1 when a site is still missing.
+        #[arg(long, default_value_t = 10.0)]
+        timeout: f64,
+    },
+    /// Follow the tracks for a while: how many sets arrived and the longest silence (JSON).
+    Gaps {
+        /// Seconds to listen.
+        #[arg(long, default_value_t = 10.0)]
+        duration: f64,
+    },
 }
 
 #[tokio::main(flavor = "multi_thread", worker_threads = 2)]
@@ -88,14 +129,28 @@ async fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
     let site = Site::new(&cli.site)?;
     let session = zenoh_config(&cli)?.open().await?;
-    let code = match cli.command {
-        Command::Status => {
-            let status = query_status(&session, &site, WireFormat::Json).await?;
+    let code = execute(&session, &site, cli.command).await?;
+    let _ = session.close().await;
+    std::process::exit(code);
+}
+
+/// Runs one command; its exit code.
+async fn execute(session: &zenoh::Session, site: &Site, command: Command) -> anyhow::Result<i32> {
+    Ok(match command {
+        Command::Status { instance: None } => {
+            let status = query_status(session, site, WireFormat::Json).await?;
+            println!("{}", serde_json::to_string_pretty(&status)?);
+            0
+        }
+        Command::Status {
+            instance: Some(instance),
+        } => {
+            let status = probe::instance_status(session, site, &instance).await?;
             println!("{}", serde_json::to_string_pretty(&status)?);
             0
         }
         Command::Tracks => {
-            let tracks = query_tracks(&session, &site, WireFormat::Json).await?;
+            let tracks = query_tracks(session, site, WireFormat::Json).await?;
             println!("{}", serde_json::to_string_pretty(&tracks)?);
             0
         }
@@ -103,17 +158,43 @@ async fn main() -> anyhow::Result<()> {
             duration,
             skip,
             max_ospa,
-        } => watch(&session, &site, duration, skip, max_ospa).await?,
-        Command::WaitTracks { timeout } => wait_tracks(&session, &site, timeout).await?,
-        Command::Ids { duration } => print_identities(&session, &site, duration).await?,
+        } => watch(session, site, duration, skip, max_ospa).await?,
+        Command::WaitTracks { timeout } => wait_tracks(session, site, timeout).await?,
+        Command::Ids { duration } => print_identities(session, site, duration).await?,
         Command::Rogue {
             victim,
             duration,
             rate,
-        } => rogue(&session, &site, victim, duration, rate).await?,
-    };
-    let _ = session.close().await;
-    std::process::exit(code);
+        } => rogue(session, site, victim, duration, rate).await?,
+        Command::Impersonate {
+            victim,
+            duration,
+            rate,
+        } => {
+            let victim = SensorId::new(victim)?;
+            let duration = Duration::from_secs_f64(duration);
+            let report = probe::impersonate(session, site, &victim, duration, rate).await?;
+            println!("{}", serde_json::to_string(&report)?);
+            0
+        }
+        Command::Sniff { duration } => {
+            let duration = Duration::from_secs_f64(duration);
+            let report = probe::sniff(session, site, duration).await?;
+            println!("{}", serde_json::to_string(&report)?);
+            0
+        }
+        Command::Sites { expect, timeout } => {
+            let timeout = Duration::from_secs_f64(timeout);
+            let answer = probe::wait_sites(session, &expect, timeout).await?;
+            println!("{answer}");
+            i32::from(answer["complete"] != serde_json::json!(true))
+        }
+        Command::Gaps { duration } => {
+            let duration = Duration::from_secs_f64(duration);
+            println!("{}", probe::track_gaps(session, site, duration).await?);
+            0
+        }
+    })
 }
 
 /// The client's Zenoh configuration from the command line, checked before it is used.
