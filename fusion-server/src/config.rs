@@ -14,9 +14,11 @@ pub use transport::ZenohConfig;
 mod filter;
 mod ingest;
 mod output;
+mod server;
 pub use filter::{BirthKind, FilterConfig, MotionKind};
 pub use ingest::IngestConfig;
 pub use output::OutputConfig;
+pub use server::{RoleMode, ServerRoleConfig};
 
 /// Why the configuration could not be used.
 #[derive(Debug, Error)]
@@ -49,6 +51,8 @@ pub struct ServerConfig {
     pub zenoh: ZenohConfig,
     /// The deployment: site name and surveillance volume.
     pub site: SiteConfig,
+    /// This server's role among the site's servers.
+    pub server: ServerRoleConfig,
     /// The GM-PHD filter's models and thresholds.
     pub filter: FilterConfig,
     /// Track confirmation and deletion.
@@ -202,6 +206,7 @@ impl ServerConfig {
             .validate()
             .map_err(|(key, reason)| invalid(&format!("zenoh.{key}"), reason))?;
         protocol::Site::new(&self.site.name).map_err(|e| invalid("site.name", e.to_string()))?;
+        self.server.validate()?;
         for i in 0..3 {
             let (lo, hi) = (self.site.volume_min[i], self.site.volume_max[i]);
             if !lo.is_finite() || !hi.is_finite() || lo >= hi {

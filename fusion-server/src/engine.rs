@@ -8,8 +8,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use protocol::{
-    MeasurementSet, Rejected, SensorDescriptor, SensorId, Site, Status, TrackSet, WireFormat,
-    PROTOCOL_VERSION,
+    MeasurementSet, Rejected, SensorDescriptor, SensorId, ServerRole, Site, Status, TrackSet,
+    WireFormat, PROTOCOL_VERSION,
 };
 
 use crate::config::{IngestConfig, ServerConfig};
@@ -408,6 +408,8 @@ impl Engine {
             sensors: self.sensors.iter().map(|s| s.status()).collect(),
             rejected: self.rejected.clone(),
             latency_ms: self.latency.summary(),
+            // The service fills in its role when it answers.
+            role: ServerRole::Active,
         }
     }
 

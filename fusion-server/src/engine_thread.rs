@@ -33,6 +33,8 @@ pub(crate) enum Inbound {
     },
     /// A liveliness token appeared or went away.
     Alive { sensor: SensorId, alive: bool },
+    /// The current filter state is asked for (a standby joining the site starts from it).
+    Checkpoint(tokio::sync::oneshot::Sender<Checkpoint>),
     /// Drain, checkpoint and stop.
     Shutdown,
 }
@@ -69,13 +71,17 @@ fn save_checkpoint(config: &ServerConfig, engine: &Engine) {
     let Some(path) = &config.checkpoint.path else {
         return;
     };
-    let checkpoint = Checkpoint {
-        saved_at: clock::now(),
-        site: config.site.name.clone(),
-        state: engine.checkpoint(),
-    };
-    if let Err(e) = checkpoint::save(path, &checkpoint) {
+    if let Err(e) = checkpoint::save(path, &current_checkpoint(engine)) {
         tracing::error!(path = %path.display(), error = %e, "writing the checkpoint failed");
+    }
+}
+
+/// The engine's state now, as a checkpoint.
+fn current_checkpoint(engine: &Engine) -> Checkpoint {
+    Checkpoint {
+        saved_at: clock::now(),
+        site: engine.site().to_string(),
+        state: engine.checkpoint(),
     }
 }
 
@@ -170,6 +176,11 @@ fn handle(
             if alive && !engine.is_known(&sensor) {
                 let _ = ask_tx.send(sensor);
             }
+            Ok(())
+        }
+        Inbound::Checkpoint(reply) => {
+            // The asker may have given up already; nothing to do then.
+            let _ = reply.send(current_checkpoint(engine));
             Ok(())
         }
         Inbound::Shutdown => Ok(()),

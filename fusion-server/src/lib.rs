@@ -18,6 +18,7 @@ pub mod processing;
 mod publisher;
 mod rejection;
 pub mod replay;
+pub mod role;
 pub mod sensors;
 pub mod service;
 pub mod timeline;

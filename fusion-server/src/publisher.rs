@@ -1,11 +1,12 @@
 //! The tracks publisher: puts the latest `TrackSet` as soon as the engine has one, at most
 //! `output.max_publish_hz` times per second, and records each set's latency at that moment.
+//! A standby puts nothing but keeps the history, so that it has one when it takes over.
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use protocol::{keys, Site, TrackSet, WireFormat};
-use tokio::sync::Notify;
+use protocol::{keys, ServerRole, Site, TrackSet, WireFormat};
+use tokio::sync::{watch, Notify};
 use tokio::time::Instant;
 use zenoh::bytes::Encoding;
 use zenoh::qos::CongestionControl;
@@ -53,13 +54,14 @@ impl Outbox {
 }
 
 /// Declares the publisher on `fusion/<site>/tracks` and starts the task that puts what the
-/// returned [`Outbox`] is offered.
+/// returned [`Outbox`] is offered while `role` is active.
 pub(crate) async fn start(
     session: &zenoh::Session,
     site: &Site,
     max_publish_hz: f64,
     latency: SharedLatency,
     copies: TrackCopies,
+    role: watch::Receiver<ServerRole>,
 ) -> anyhow::Result<(Outbox, tokio::task::JoinHandle<()>)> {
     let publisher = session
         .declare_publisher(keys::tracks_key(site))
@@ -79,6 +81,10 @@ pub(crate) async fn start(
                 tokio::time::sleep_until(next_allowed).await;
                 let Pending { latest, arrivals } = outbox.take();
                 let Some(tracks) = latest else { continue };
+                if *role.borrow() == ServerRole::Standby {
+                    copies.keep(tracks);
+                    continue;
+                }
                 put(&publisher, &tracks).await;
                 latency.record_published(&arrivals, clock::now());
                 copies.after_put(&tracks).await;

@@ -7,10 +7,16 @@
 //! `output.max_publish_hz` times per second; `publisher.rs`, followed by its JSON copy and its
 //! place in the history that `_time` queries on the tracks queryable read, `track_output.rs`).
 //! One file per concern: `subscribers.rs`, `descriptor_fetch.rs`, `status_queryable.rs`;
-//! the signals that stop it are `transport::shutdown`'s.
+//! with `[server] role = "auto"`, `election.rs` decides whether this server is the site's
+//! active one (`role.rs` holds the rules): a standby filters the same sets without publishing
+//! or answering the site's queries (`site_answers.rs`) and starts from the active server's state
+//! (`handover.rs`); the signals that stop it are `transport::shutdown`'s.
 
 mod descriptor_fetch;
+mod election;
+mod handover;
 mod inlet;
+mod site_answers;
 mod status_queryable;
 mod subscribers;
 
@@ -20,9 +26,10 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use protocol::{keys, SensorId, Site};
+use protocol::{keys, InstanceId, SensorId, ServerRole, Site};
 use tokio::sync::mpsc;
 use transport::wait_for_signal;
+use zenoh::query::Queryable;
 
 use crate::clock;
 use crate::config::ServerConfig;
@@ -30,6 +37,7 @@ use crate::engine::Engine;
 use crate::engine_thread::{engine_loop, restore_checkpoint, Inbound, Snapshot};
 use crate::publisher::{self, Outbox};
 use crate::track_output::{self, TrackCopies};
+use election::Elected;
 use inlet::Inlet;
 use subscribers::Subscribers;
 
@@ -50,19 +58,22 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
     let (tx, rx) = sync_channel::<Inbound>(config.ingest.queue_capacity);
     let overflow = Arc::new(AtomicU64::new(0));
     let inlet = Inlet::new(tx, overflow.clone());
+    // Subscribed first: what arrives while the election runs waits in the channel.
+    let subscribers = Subscribers::declare(&session, &site, &inlet).await?;
+    let elected = election::start(&session, &site, &config.server).await?;
+    start_from_active_server(&session, &site, &elected, &mut engine).await;
     let snapshot = Arc::new(Mutex::new(Snapshot {
         tracks: engine.tracks().clone(),
         status: engine.status(started),
     }));
-    let (ask_tx, ask_rx) = mpsc::unbounded_channel::<SensorId>();
-
-    let subscribers = Subscribers::declare(&session, &site, &inlet).await?;
     let history = track_output::new_history(&config.output);
-    let tracks_queryable =
-        track_output::declare_tracks_queryable(&session, &site, snapshot.clone(), history.clone())
-            .await?;
-    let status_queryable =
-        status_queryable::declare(&session, keys::status_key(&site), snapshot.clone()).await?;
+    let me = config.server.instance();
+    let sources = site_answers::Sources {
+        snapshot: snapshot.clone(),
+        history: history.clone(),
+    };
+    let answers = Answers::declare(&session, (&site, &me), &elected, &inlet, sources).await?;
+    let (ask_tx, ask_rx) = mpsc::unbounded_channel::<SensorId>();
     descriptor_fetch::spawn(&session, &site, &inlet, ask_rx);
 
     // The publisher: the latest TrackSet as soon as there is one, rate-limited, and in JSON.
@@ -73,6 +84,7 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
         config.output.max_publish_hz,
         engine.latency(),
         copies,
+        elected.role.clone(),
     )
     .await?;
     let engine_thread = spawn_engine(engine, &config, rx, snapshot, overflow, outbox, ask_tx)?;
@@ -86,9 +98,71 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
     // Let the publisher put the final track set before closing.
     tokio::time::sleep(Duration::from_millis(50)).await;
     publisher_task.abort();
-    drop(tracks_queryable);
-    drop(status_queryable);
+    drop(answers);
+    drop(elected);
     close(session, &site).await
+}
+
+/// A standby that finds an active server at start takes that server's filter state, which is
+/// newer than its own checkpoint (`handover.rs`).
+async fn start_from_active_server(
+    session: &zenoh::Session,
+    site: &Site,
+    elected: &Elected,
+    engine: &mut Engine,
+) {
+    if *elected.role.borrow() != ServerRole::Standby {
+        return;
+    }
+    for active in &elected.actives_at_start {
+        if let Some(checkpoint) = handover::fetch(session, site, active).await {
+            match engine.restore(checkpoint.state) {
+                Ok(()) => {
+                    tracing::info!(from = %active, "standing by from the active server's filter state");
+                    return;
+                }
+                Err(e) => {
+                    tracing::warn!(from = %active, error = %e, "the active server's state was rejected")
+                }
+            }
+        }
+    }
+}
+
+/// What the server answers: the site's queryables while active, its own status and state always.
+struct Answers {
+    site: tokio::task::JoinHandle<()>,
+    _own_status: Queryable<()>,
+    _handover: Queryable<()>,
+}
+
+impl Answers {
+    async fn declare(
+        session: &zenoh::Session,
+        (site, me): (&Site, &InstanceId),
+        elected: &Elected,
+        inlet: &Inlet,
+        sources: site_answers::Sources,
+    ) -> anyhow::Result<Self> {
+        let own_status = status_queryable::declare(
+            session,
+            keys::server_status_key(site, me),
+            sources.snapshot.clone(),
+            elected.role.clone(),
+        )
+        .await?;
+        Ok(Self {
+            site: site_answers::spawn(session, site, sources, elected.role.clone()),
+            _own_status: own_status,
+            _handover: handover::declare(session, site, me, inlet).await?,
+        })
+    }
+}
+
+impl Drop for Answers {
+    fn drop(&mut self) {
+        self.site.abort();
+    }
 }
 
 /// Starts the engine thread.

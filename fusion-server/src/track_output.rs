@@ -68,10 +68,15 @@ impl TrackCopies {
         if let Some(json) = &self.json {
             put(json, tracks, WireFormat::Json).await;
         }
+        self.keep(tracks.clone());
+    }
+
+    /// Keeps `tracks` in the history without putting it (a standby's sets).
+    pub(crate) fn keep(&self, tracks: TrackSet) {
         self.history
             .lock()
             .unwrap_or_else(|p| p.into_inner())
-            .record(tracks.clone());
+            .record(tracks);
     }
 }
 

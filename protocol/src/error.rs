@@ -9,6 +9,8 @@ pub enum ChunkRole {
     Site,
     /// The `<sensor>` chunk of `fusion/<site>/sensors/<sensor>/...`.
     Sensor,
+    /// The `<instance>` chunk of `fusion/<site>/server/<instance>/...`.
+    Instance,
 }
 
 impl std::fmt::Display for ChunkRole {
@@ -16,6 +18,7 @@ impl std::fmt::Display for ChunkRole {
         f.write_str(match self {
             ChunkRole::Site => "site",
             ChunkRole::Sensor => "sensor",
+            ChunkRole::Instance => "server instance",
         })
     }
 }

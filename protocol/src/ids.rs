@@ -1,4 +1,4 @@
-//! Validated identifiers: a `<site>` or `<sensor>` is one key chunk of `[A-Za-z0-9_-]`, 1 to 64 characters.
+//! Validated identifiers: a `<site>`, `<sensor>` or server `<instance>` is one key chunk of `[A-Za-z0-9_-]`, 1 to 64 characters.
 //!
 //! Both types check their text when built and when deserialised, so a message that decoded always carries
 //! identifiers that can be put into a key expression.
@@ -114,6 +114,13 @@ chunk_newtype!(
     /// A sensor's name, unique within its site: the `<sensor>` chunk of `fusion/<site>/sensors/<sensor>/...`.
     SensorId,
     ChunkRole::Sensor
+);
+
+chunk_newtype!(
+    /// One fusion server of a site, when an active server and hot standbys run side by side: the
+    /// `<instance>` chunk of `fusion/<site>/server/<instance>/...`.
+    InstanceId,
+    ChunkRole::Instance
 );
 
 impl Default for Site {

@@ -3,10 +3,13 @@
 //! Everything of one deployment lives under `fusion/<site>`:
 //! - `fusion/<site>/sensors/<sensor>/descriptor|measurements|alive` (edge agents),
 //! - `fusion/<site>/tracks`, `fusion/<site>/tracks/json`, `fusion/<site>/status` (fusion server),
-//! - `fusion/<site>/truth` (simulators only).
+//! - `fusion/<site>/truth` (simulators only),
+//! - `fusion/<site>/server/active/<instance>` and `fusion/<site>/server/<instance>/status|checkpoint`
+//!   (between the fusion servers of one site: the active server's liveliness token, each
+//!   server's own status and the filter state a joining standby starts from).
 
 use crate::error::ProtocolError;
-use crate::ids::{SensorId, Site};
+use crate::ids::{InstanceId, SensorId, Site};
 use std::fmt;
 
 /// First chunk of every key of the contract.
@@ -145,6 +148,39 @@ pub fn status_key(site: &Site) -> String {
 /// `fusion/<site>/truth`.
 pub fn truth_key(site: &Site) -> String {
     site_key(site, SiteKeyKind::Truth)
+}
+
+/// `fusion/<site>/server/active/<instance>`: the liveliness token of the site's active server.
+pub fn server_active_token(site: &Site, instance: &InstanceId) -> String {
+    format!("{ROOT}/{site}/server/active/{instance}")
+}
+
+/// `fusion/<site>/server/active/*`: every active server's token (a liveliness subscriber's key).
+pub fn all_server_active_tokens(site: &Site) -> String {
+    format!("{ROOT}/{site}/server/active/*")
+}
+
+/// The `<instance>` of a key built by [`server_active_token`].
+pub fn parse_server_active_token(key: &str) -> Result<(Site, InstanceId), ProtocolError> {
+    const SHAPE: &str = "fusion/<site>/server/active/<instance>";
+    let chunks: Vec<&str> = key.split('/').collect();
+    match chunks.as_slice() {
+        [ROOT, site, "server", "active", instance] => {
+            Ok((Site::new(*site)?, InstanceId::new(*instance)?))
+        }
+        _ => Err(malformed(key, SHAPE, "not a server's active token")),
+    }
+}
+
+/// `fusion/<site>/server/<instance>/status`: one server's own `Status`, active or standby.
+pub fn server_status_key(site: &Site, instance: &InstanceId) -> String {
+    format!("{ROOT}/{site}/server/{instance}/status")
+}
+
+/// `fusion/<site>/server/<instance>/checkpoint`: one server's current filter state (JSON), which
+/// a standby joining the site starts from.
+pub fn server_checkpoint_key(site: &Site, instance: &InstanceId) -> String {
+    format!("{ROOT}/{site}/server/{instance}/checkpoint")
 }
 
 /// Builds the error for a key that does not have the expected shape.

@@ -50,12 +50,13 @@ pub mod validate;
 
 pub use codec::{decode, encode, WireFormat, JSON_ENCODING, POSTCARD_ENCODING};
 pub use error::{ChunkRole, ProtocolError};
-pub use ids::{SensorId, Site, DEFAULT_SITE, MAX_CHUNK_LEN};
+pub use ids::{InstanceId, SensorId, Site, DEFAULT_SITE, MAX_CHUNK_LEN};
 pub use keys::{parse_sensor_key, parse_site_key, SensorKeyKind, SiteKeyKind};
 pub use messages::{
     BearingRangeModel, CameraModel, LatencyMs, LidarModel, MeasurementSet, MicPairModel,
     PositionModel, Region, Rejected, ReplayLine, SensorDescriptor, SensorKind, SensorModel,
-    SensorStatus, Status, Track, TrackSet, TruthObject, TruthSet, DEFAULT_SPEED_OF_SOUND,
+    SensorStatus, ServerRole, Status, Track, TrackSet, TruthObject, TruthSet,
+    DEFAULT_SPEED_OF_SOUND,
 };
 
 /// The protocol version every message carries in its `version` field.

@@ -1,13 +1,13 @@
 //! Key builders and parsers, and the identifier rules they rely on.
 
 use protocol::keys::{
-    alive_key, all_alive_key, all_descriptors_key, all_measurements_key, all_sensors_key,
-    descriptor_key, measurements_key, sensor_key, site_key, status_key, tracks_json_key,
-    tracks_key, truth_key,
+    self as keys, alive_key, all_alive_key, all_descriptors_key, all_measurements_key,
+    all_sensors_key, descriptor_key, measurements_key, sensor_key, site_key, status_key,
+    tracks_json_key, tracks_key, truth_key,
 };
 use protocol::{
-    parse_sensor_key, parse_site_key, ProtocolError, SensorId, SensorKeyKind, Site, SiteKeyKind,
-    DEFAULT_SITE,
+    parse_sensor_key, parse_site_key, InstanceId, ProtocolError, SensorId, SensorKeyKind, Site,
+    SiteKeyKind, DEFAULT_SITE,
 };
 
 fn ids() -> (Site, SensorId) {
@@ -177,4 +177,37 @@ fn identifiers_check_themselves_when_deserialised() {
     );
     let parsed: Site = "north".parse().unwrap();
     assert_eq!(parsed.to_string(), "north");
+}
+
+#[test]
+fn server_keys_have_their_form_and_the_active_token_parses_back() {
+    let site = Site::new("room").unwrap();
+    let a = InstanceId::new("a").unwrap();
+    assert_eq!(
+        keys::server_active_token(&site, &a),
+        "fusion/room/server/active/a"
+    );
+    assert_eq!(
+        keys::all_server_active_tokens(&site),
+        "fusion/room/server/active/*"
+    );
+    assert_eq!(
+        keys::server_status_key(&site, &a),
+        "fusion/room/server/a/status"
+    );
+    assert_eq!(
+        keys::server_checkpoint_key(&site, &a),
+        "fusion/room/server/a/checkpoint"
+    );
+    let (parsed_site, parsed) =
+        keys::parse_server_active_token(&keys::server_active_token(&site, &a)).unwrap();
+    assert_eq!((parsed_site, parsed), (site, a));
+    for bad in [
+        "fusion/room/server/active",
+        "fusion/room/server/a/status",
+        "fusion/room/server/active/a/b",
+        "fusion/room/server/active/a b",
+    ] {
+        assert!(keys::parse_server_active_token(bad).is_err(), "{bad}");
+    }
 }

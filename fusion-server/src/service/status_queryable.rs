@@ -1,9 +1,11 @@
-//! The status queryable: answers from the snapshot the engine refreshes, in the encoding the
-//! query asks for.
+//! The status queryables (the site's, while active, and the server's own): answer from the
+//! snapshot the engine refreshes, with the server's current role, in the encoding the query
+//! asks for.
 
 use std::sync::{Arc, Mutex};
 
-use protocol::{Status, WireFormat};
+use protocol::{ServerRole, Status, WireFormat};
+use tokio::sync::watch;
 use zenoh::bytes::Encoding;
 use zenoh::query::{Query, Queryable};
 use zenoh::Wait;
@@ -15,16 +17,17 @@ pub async fn declare(
     session: &zenoh::Session,
     key: String,
     snapshot: Arc<Mutex<Snapshot>>,
+    role: watch::Receiver<ServerRole>,
 ) -> anyhow::Result<Queryable<()>> {
     let reply_key = key.clone();
     session
         .declare_queryable(key.clone())
-        .callback(move |query| answer(&query, &reply_key, &snapshot))
+        .callback(move |query| answer(&query, &reply_key, &snapshot, *role.borrow()))
         .await
         .map_err(|e| anyhow::anyhow!("declaring the queryable on {key}: {e}"))
 }
 
-fn answer(query: &Query, reply_key: &str, snapshot: &Mutex<Snapshot>) {
+fn answer(query: &Query, reply_key: &str, snapshot: &Mutex<Snapshot>, role: ServerRole) {
     let format = match WireFormat::from_query_parameters(query.parameters().as_str()) {
         Ok(format) => format,
         Err(e) => {
@@ -32,9 +35,13 @@ fn answer(query: &Query, reply_key: &str, snapshot: &Mutex<Snapshot>) {
             return;
         }
     };
-    let status: Status = {
-        let guard = snapshot.lock().unwrap_or_else(|p| p.into_inner());
-        guard.status.clone()
+    let status = Status {
+        role,
+        ..snapshot
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .status
+            .clone()
     };
     match protocol::encode(&status, format) {
         Ok(bytes) => {

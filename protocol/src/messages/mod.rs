@@ -16,6 +16,6 @@ pub use model::{
     SensorModel, DEFAULT_SPEED_OF_SOUND,
 };
 pub use replay::ReplayLine;
-pub use status::{LatencyMs, Rejected, SensorStatus, Status};
+pub use status::{LatencyMs, Rejected, SensorStatus, ServerRole, Status};
 pub use tracks::{Track, TrackSet};
 pub use truth::{TruthObject, TruthSet};

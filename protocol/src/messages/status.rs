@@ -62,7 +62,7 @@ pub struct LatencyMs {
 /// The server's health report.
 ///
 /// JSON: `{"version": 1, "site": "default", "uptime_s": 12.5, "stamp": ..., "components": 57, "tracks": 2,
-/// "sensors": [...], "rejected": {...}, "latency_ms": {"p50": 0.4, "p99": 1.9}}`.
+/// "sensors": [...], "rejected": {...}, "latency_ms": {"p50": 0.4, "p99": 1.9}, "role": "active"}`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Status {
@@ -84,4 +84,29 @@ pub struct Status {
     pub rejected: Rejected,
     /// Arrival-to-publication latency.
     pub latency_ms: LatencyMs,
+    /// Whether this server publishes the site's tracks or stands by (`active` from servers that
+    /// do not report it).
+    #[serde(default)]
+    pub role: ServerRole,
+}
+
+/// A fusion server's part at its site: the one that publishes, or a hot standby that filters
+/// the same sets and takes over when the active server goes away.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ServerRole {
+    /// Publishes `fusion/<site>/tracks` and answers the site's queries.
+    #[default]
+    Active,
+    /// Ingests and filters without publishing.
+    Standby,
+}
+
+impl std::fmt::Display for ServerRole {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Active => "active",
+            Self::Standby => "standby",
+        })
+    }
 }

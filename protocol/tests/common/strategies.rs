@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use protocol::{
     BearingRangeModel, CameraModel, LatencyMs, LidarModel, MeasurementSet, MicPairModel,
     PositionModel, Region, Rejected, ReplayLine, SensorDescriptor, SensorId, SensorKind,
-    SensorModel, SensorStatus, Site, Status, Track, TrackSet, TruthObject, TruthSet,
+    SensorModel, SensorStatus, ServerRole, Site, Status, Track, TrackSet, TruthObject, TruthSet,
     PROTOCOL_VERSION,
 };
 
@@ -272,23 +272,27 @@ pub fn status() -> impl Strategy<Value = Status> {
         [any::<u64>(); 4],
         prop::option::of(0.0..1e3_f64),
         prop::option::of(0.0..1e3_f64),
+        prop_oneof![Just(ServerRole::Active), Just(ServerRole::Standby)],
     )
         .prop_map(
-            |(site, uptime_s, stamp, [components, tracks], sensors, rejected, p50, p99)| Status {
-                version: PROTOCOL_VERSION,
-                site,
-                uptime_s,
-                stamp,
-                components,
-                tracks,
-                sensors,
-                rejected: Rejected {
-                    undecodable: rejected[0],
-                    unknown_sensor: rejected[1],
-                    invalid: rejected[2],
-                    late: rejected[3],
-                },
-                latency_ms: LatencyMs { p50, p99 },
+            |(site, uptime_s, stamp, [components, tracks], sensors, rejected, p50, p99, role)| {
+                Status {
+                    version: PROTOCOL_VERSION,
+                    site,
+                    uptime_s,
+                    stamp,
+                    components,
+                    tracks,
+                    sensors,
+                    rejected: Rejected {
+                        undecodable: rejected[0],
+                        unknown_sensor: rejected[1],
+                        invalid: rejected[2],
+                        late: rejected[3],
+                    },
+                    latency_ms: LatencyMs { p50, p99 },
+                    role,
+                }
             },
         )
 }
