@@ -166,10 +166,11 @@ pub async fn sniff(
     let selector = format!("{}?format=json", keys::status_key(site));
     while began.elapsed() < duration {
         let replies = get_all(session, &selector).await?;
-        let mut report = report.lock().unwrap_or_else(|p| p.into_inner());
-        report.status_replies += replies.len() as u64;
-        report.forged_status_replies += replies.iter().filter(|s| is_forged(s)).count() as u64;
-        drop(report);
+        {
+            let mut report = report.lock().unwrap_or_else(|p| p.into_inner());
+            report.status_replies += replies.len() as u64;
+            report.forged_status_replies += replies.iter().filter(|s| is_forged(s)).count() as u64;
+        }
         tokio::time::sleep(Duration::from_secs(1)).await;
     }
     drop(subscriber);

@@ -104,6 +104,15 @@ checker() {
 checker_json() { dc run --rm -T checker "$@" 2>/dev/null; }
 status_json() { checker_json status; }
 container_of() { dc ps -q "$1"; }
+# Takes the project under test down (volumes too), printing its services' last logs first when a check
+# has failed so far (or KEEP_LOGS=1).
+down_project() {
+  if [ "$failed" = 1 ] || [ "${KEEP_LOGS:-0}" = 1 ]; then
+    printf '\n--- logs of %s (last 25 lines per service)\n' "$project"
+    dc logs --no-color --tail 25 2>/dev/null || true
+  fi
+  dc down -v --remove-orphans >/dev/null 2>&1 || true
+}
 
 # The `status` line of one sensor: "alive received processed late invalid lost" ("no-status" when the
 # server did not answer).
@@ -389,7 +398,7 @@ fi
 check_no_restarts "bad input"
 
 section "plain profile: down"
-dc down -v --remove-orphans >/dev/null 2>&1
+down_project
 fi
 
 # ================================================================== secure profile
@@ -432,7 +441,7 @@ fi
 source "$here/access_control.sh"
 check_no_restarts "secure"
 section "secure profile: down"
-dc down -v --remove-orphans >/dev/null 2>&1
+down_project
 fi
 
 # ================================================================== hot standby, many sites

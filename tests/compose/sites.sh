@@ -51,4 +51,4 @@ else
   fail "sites: compose up failed"
 fi
 section "many sites: down"
-dc down -v --remove-orphans >/dev/null 2>&1
+down_project

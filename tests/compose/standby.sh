@@ -75,4 +75,4 @@ if bring_up "standby startup"; then
   fi
 fi
 section "hot standby: down"
-dc down -v --remove-orphans >/dev/null 2>&1
+down_project
