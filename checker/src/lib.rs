@@ -5,6 +5,7 @@
 
 pub mod probe;
 pub mod processes;
+pub mod raw_inputs;
 pub mod rogue;
 
 use std::collections::BTreeMap;

@@ -20,11 +20,6 @@ const LAST_S: f64 = 30.0;
 /// Track sets scored from this long after the first scan (the tracks' confirmation).
 const SETTLE_S: f64 = 2.0;
 
-/// The room's ceiling LIDAR: 40 beams over its elevation limits, 0.2° azimuth steps.
-fn ceiling_pattern(model: &LidarModel) -> ScanPattern {
-    ScanPattern::new(BeamLayout::covering(model.elevation_limits, 40))
-}
-
 fn lidar_model(scenario: &Scenario, sensor: &str) -> LidarModel {
     let (_, spec) = scenario.sensor(sensor).unwrap();
     let SensorModel::Lidar(model) = &spec.model else {
@@ -98,7 +93,7 @@ fn room_lines(seed: u64) -> (Vec<ReplayLine>, FrontEndFigures) {
     let (index, spec) = scenario.sensor("lidar").unwrap();
     let model = lidar_model(&scenario, "lidar");
     let descriptor = simulation.descriptors()[index].clone();
-    let pattern = ceiling_pattern(&model);
+    let pattern = ScanPattern::ceiling(&model);
     let scene = LidarScene::default_room();
     let pipeline = LidarPipeline::new(LidarConfig::default()).unwrap();
     let mut figures = FrontEndFigures::default();

@@ -2,12 +2,17 @@
 //! edge agent per sensor of the default room (or `--scenario`), in Zenoh peer mode on loopback,
 //! prints live tracks, and at the end OSPA against the truth and an SVG plot. `fusion-view` runs
 //! beside them: the demo prints its URL, where the run can be watched in a browser.
+//!
+//! With `--raw` the agents run their real front ends instead (`edge-agent camera --frames`,
+//! `mic-pair --wav`, `lidar --scans`) on raw signals rendered from the truth before the run
+//! (`checker::raw_inputs`), and the demo publishes the truth itself.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
 use checker::processes::{binary, free_port, Managed};
+use checker::raw_inputs::{agent_command, publish_truth, render_sensors};
 use checker::{query_status, Observed, Observer};
 use clap::Parser;
 use evaluation::{mean_ospa, plot, PlotData};
@@ -39,6 +44,10 @@ struct Args {
     /// Do not start `fusion-view`.
     #[arg(long)]
     no_view: bool,
+    /// Run the real front ends on raw signals (camera frames, audio, LIDAR scans) rendered from
+    /// the truth into the logs directory before the run, instead of simulated measurement sets.
+    #[arg(long)]
+    raw: bool,
 }
 
 /// Starts `fusion-view` as a peer of `endpoint` on `address` (or on a free port when that one is
@@ -81,6 +90,11 @@ async fn main() -> anyhow::Result<()> {
     let server_bin = binary("fusion-server")?;
     let agent_bin = binary("edge-agent")?;
     std::fs::create_dir_all(&args.logs)?;
+    // Rendering comes first: it takes a while, and nothing else has started to wait for it.
+    let raw = args
+        .raw
+        .then(|| render_sensors(&scenario, args.seed, args.duration, &args.logs.join("raw")))
+        .transpose()?;
     let port = free_port()?;
     let endpoint = format!("tcp/127.0.0.1:{port}");
 
@@ -94,7 +108,19 @@ async fn main() -> anyhow::Result<()> {
     // their stamps and truth agree.
     tokio::time::sleep(Duration::from_millis(500)).await;
     let start = fusion_server::clock::now() + 1.5;
-    let mut agents = start_agents(&agent_bin, &scenario, &args, &endpoint, start)?;
+    let mut agents = match &raw {
+        Some(sensors) => {
+            tokio::spawn(publish_truth(
+                scenario.clone(),
+                args.seed,
+                start,
+                args.duration,
+                endpoint.clone(),
+            ));
+            start_raw_agents(&agent_bin, sensors, &args.logs, &endpoint, start)?
+        }
+        None => start_agents(&agent_bin, &scenario, &args, &endpoint, start)?,
+    };
 
     let watcher = ZenohConfig {
         connect: vec![endpoint.clone()],
@@ -171,6 +197,24 @@ fn start_agents(
         )?);
     }
     Ok(agents)
+}
+
+/// Starts one front-end agent per rendered sensor, all with scenario time 0 at `start`.
+fn start_raw_agents(
+    agent_bin: &Path,
+    sensors: &[checker::raw_inputs::RawSensor],
+    logs: &Path,
+    endpoint: &str,
+    start: f64,
+) -> anyhow::Result<Vec<Managed>> {
+    sensors
+        .iter()
+        .map(|sensor| {
+            let cmd = agent_command(agent_bin, sensor, endpoint, start);
+            let log = logs.join(format!("edge-agent-{}.log", sensor.sensor));
+            Managed::spawn(&format!("edge-agent {}", sensor.sensor), cmd, Some(&log))
+        })
+        .collect()
 }
 
 /// Prints the latest track set once a second until the run is over (its duration and 2.5 s for

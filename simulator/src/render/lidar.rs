@@ -60,6 +60,9 @@ impl BeamLayout {
     }
 }
 
+/// Beams of [`ScanPattern::ceiling`].
+const CEILING_BEAMS: usize = 40;
+
 /// How a scan is taken: beams, azimuth resolution, point noise and dropouts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScanPattern {
@@ -82,6 +85,14 @@ impl ScanPattern {
             range_noise_std: 0.02,
             dropout_probability: 0.01,
         }
+    }
+
+    /// The pattern the default room's ceiling LIDAR is rendered with: 40 beams spread evenly over
+    /// the model's elevation limits (its region of interest, so that no ray is wasted on what the
+    /// descriptor says it cannot see), 0.2° azimuth steps. The raw-LIDAR test and `fusion-demo
+    /// --raw` render with it, so their scans and figures are the same.
+    pub fn ceiling(model: &LidarModel) -> Self {
+        Self::new(BeamLayout::covering(model.elevation_limits, CEILING_BEAMS))
     }
 
     /// Number of azimuth columns in one rotation.
