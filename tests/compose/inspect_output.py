@@ -12,7 +12,8 @@
                        -> compares two `fusion-checker ids` outputs (files): for every true object seen in
                           both, is its most frequent track id the same? Prints one line per object and
                           exits 1 when an id changed or fewer than MIN_OBJECTS objects could be compared.
-  view-scene           -> reads fusion-view's /api/scene JSON and prints "tracks sensors alive_sensors site"
+  view-scene           -> reads fusion-view's /api/scene JSON and prints "tracks sensors alive_sensors site truth"
+                          (truth: the people of the simulation's truth in the scene)
   sniff                -> reads `fusion-checker sniff` and prints "forged forged_status genuine_victim genuine_tracks
                           status_replies" (VICTIM, default lidar: genuine sets of that sensor seen)
   impostor             -> reads `fusion-checker impersonate` and prints "puts queries_answered"
@@ -114,7 +115,9 @@ def main(argv):
     if command == "view-scene":
         scene = load_json(sys.stdin.read())
         alive = sum(1 for s in scene["sensors"] if s["alive"])
-        print(len(scene["tracks"]), len(scene["sensors"]), alive, scene["site"] or "-")
+        truth = scene.get("truth")
+        people = len(truth) if isinstance(truth, list) else "-"
+        print(len(scene["tracks"]), len(scene["sensors"]), alive, scene["site"] or "-", people)
         return 0
     if command in ("sniff", "impostor", "role", "sites", "gaps"):
         print(probe_line(command, load_json(sys.stdin.read()), argv[2:]))
