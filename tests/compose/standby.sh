@@ -3,7 +3,8 @@
 #   standby: takeover   `docker kill` the active server: tracks resume within 2 s (the longest silence a
 #                       subscriber saw), the same people keep the same track ids, the new active lost no set
 #                       (the sum of its sensors' `lost` counters did not grow), exactly one server is active;
-#                       the killed one, started again, comes back as standby.
+#                       the killed one, started again, comes back as standby. Twice: the servers started
+#                       together, then the standby joined a running active server (the one started again).
 
 start_project "fusionstandby$$" "${standby[@]}"
 SERVICES=(router server server_b "${SENSORS[@]}")
@@ -31,27 +32,27 @@ wait_roles() {
   done
 }
 
-if bring_up "standby startup"; then
-  if roles="$(wait_roles "active standby|standby active" 20)"; then
-    pass "standby: one active and one standby server (a: ${roles% *}, b: ${roles#* })"
-  else
-    fail "standby: roles a, b are '$roles', not one active and one standby (does this server build know [server] role?)"
-  fi
+# One takeover: the active server is killed while a subscriber follows the tracks; then it is started again.
+takeover() { # label
+  local roles active standby_id active_service lost_before before after gaps gaps_pid sets max_gap
+  local took_over role_new lost_after role_old compared ids_kept want_roles
+  roles="$(wait_roles "active standby|standby active" 20)" || true
   if [ "${roles% *}" = active ]; then active=a standby_id=b; else active=b standby_id=a; fi
   active_service="$(service_of_instance "$active")"
   read -r _ lost_before <<<"$(instance_role "$standby_id")"
   before="$(mktemp)"
   after="$(mktemp)"
-  checker_json ids --duration 3 >"$before" || true
   gaps="$(mktemp)"
+  checker_json ids --duration 3 >"$before" || true
   checker_json gaps --duration 8 >"$gaps" &
   gaps_pid=$!
   sleep 2
+  took_over="$(dc logs --no-color "$(service_of_instance "$standby_id")" 2>/dev/null | grep -c 'taking over as the active server' || true)"
   docker kill "$(container_of "$active_service")" >/dev/null
   echo "    killed $active_service (instance $active, active) at t = $(($(date +%s) - START)) s"
   wait "$gaps_pid" || true
   read -r sets max_gap <<<"$(inspect gaps <"$gaps" 2>/dev/null || echo "0 na")"
-  took_over="$(dc logs --no-color "$(service_of_instance "$standby_id")" 2>/dev/null | grep -c 'taking over as the active server' || true)"
+  took_over=$(($(dc logs --no-color "$(service_of_instance "$standby_id")" 2>/dev/null | grep -c 'taking over as the active server' || true) - took_over))
   checker_json ids --duration 3 >"$after" || true
   read -r role_new lost_after <<<"$(instance_role "$standby_id")"
   read -r role_old _ <<<"$(instance_role "$active")"
@@ -62,17 +63,29 @@ if bring_up "standby startup"; then
   rm -f "$before" "$after" "$gaps"
   if [ "$sets" -gt 0 ] 2>/dev/null && le "$max_gap" 2 && [ "$role_new" = active ] && [ "$role_old" = down ] &&
     [ "$ids_kept" = 1 ] && [ "$lost_after" = "$lost_before" ] && [ "$took_over" -gt 0 ]; then
-    pass "standby: takeover: tracks resumed after a silence of $max_gap s, $(tail -1 <<<"$compared"), lost $lost_before -> $lost_after, one server active ($standby_id)"
+    pass "$1: tracks resumed after a silence of $max_gap s, $(tail -1 <<<"$compared"), lost $lost_before -> $lost_after, one server active ($standby_id)"
   else
-    fail "standby: takeover: silence ${max_gap} s (<= 2), roles $standby_id=$role_new $active=$role_old, lost $lost_before -> $lost_after, ids kept $ids_kept, 'taking over' logged $took_over times"
+    fail "$1: silence ${max_gap} s (<= 2), roles $standby_id=$role_new $active=$role_old, lost $lost_before -> $lost_after, $(tail -1 <<<"$compared"), 'taking over' logged $took_over times"
   fi
   dc start "$active_service" >/dev/null 2>&1
   if [ "$active" = a ]; then want_roles="standby active"; else want_roles="active standby"; fi
   if roles="$(wait_roles "$want_roles" 20)"; then
-    pass "standby: the killed server came back as standby ($active: standby, $standby_id: active)"
+    pass "$1: the killed server came back as standby ($active: standby, $standby_id: active)"
   else
-    fail "standby: after starting $active_service again the roles a, b are '$roles', not '$want_roles'"
+    fail "$1: after starting $active_service again the roles a, b are '$roles', not '$want_roles'"
   fi
+}
+
+if bring_up "standby startup"; then
+  if roles="$(wait_roles "active standby|standby active" 20)"; then
+    pass "standby: one active and one standby server (a: ${roles% *}, b: ${roles#* })"
+  else
+    fail "standby: roles a, b are '$roles', not one active and one standby (does this server build know [server] role?)"
+  fi
+  takeover "standby: takeover (both servers started together)"
+  # The server started again joined a running active server (and took its state): kill the active now.
+  sleep 3
+  takeover "standby: takeover (the standby joined later)"
 fi
 section "hot standby: down"
 down_project
