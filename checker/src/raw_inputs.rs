@@ -70,13 +70,18 @@ pub enum RawInput {
 }
 
 /// Renders every sensor of `scenario` for `duration_s` seconds of run `seed` into `dir`, two
-/// sensors at a time (one per core), printing each one as it is done and the total.
+/// sensors at a time (one per core), printing each one as it is done and the total. Whatever `dir`
+/// held is removed first: the agents read every frame and scan there, so a longer earlier run's
+/// would be read too.
 pub fn render_sensors(
     scenario: &Scenario,
     seed: u64,
     duration_s: f64,
     dir: &Path,
 ) -> anyhow::Result<Vec<RawSensor>> {
+    if dir.exists() {
+        std::fs::remove_dir_all(dir)?;
+    }
     std::fs::create_dir_all(dir)?;
     println!(
         "fusion-demo: rendering the raw signals of {} sensors ({duration_s} s) into {} …",
@@ -105,6 +110,34 @@ pub fn render_sensors(
         println!("fusion-demo: rendering takes over a minute; a shorter --duration renders less");
     }
     Ok(sensors)
+}
+
+/// Removes the rendered signals in `dir` (about 40 MB per second of the default room, mostly PNG
+/// frames and scans) and says so; they are rendered again, the same, by the next run.
+pub fn remove_rendered(dir: &Path) {
+    let size = directory_size(dir);
+    match std::fs::remove_dir_all(dir) {
+        Ok(()) => println!(
+            "fusion-demo: removed the rendered signals ({:.0} MB; --keep-raw keeps them)",
+            size as f64 / 1e6
+        ),
+        Err(e) => println!("fusion-demo: could not remove {}: {e}", dir.display()),
+    }
+}
+
+/// Bytes of the files in `dir` and its subdirectories.
+fn directory_size(dir: &Path) -> u64 {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .map(|entry| match entry.metadata() {
+            Ok(meta) if meta.is_dir() => directory_size(&entry.path()),
+            Ok(meta) => meta.len(),
+            Err(_) => 0,
+        })
+        .sum()
 }
 
 impl RawInput {
