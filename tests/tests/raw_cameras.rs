@@ -176,16 +176,15 @@ fn rendered_cameras_track_the_room_in_3d() {
         "worst seed: mean OSPA {worst_ospa:.3} m, right count {:.1} %",
         100.0 * worst_count
     );
-    // The goal is 0.10 m and 90 %; these are floors under today's figures (seeds 1 to 3: 0.46 to
-    // 0.49 m, 21 to 49 %, through the labelled single-view tracker and the refined descriptors; 0.38
-    // to 0.44 m and 47 to 54 % through the grid-birth tracker with the given descriptors), against
-    // 0.02 m and 100 % for the cameras' simulated sets. The front end
-    // misses a head about a quarter of the time in each camera (mostly heads seen inside a nearer
-    // person's silhouette), which the fusion, told the detection probability is 0.95, answers with
-    // broken and doubled tracks.
-    assert!(worst_ospa <= 0.52, "mean OSPA {worst_ospa:.3} m");
+    // The goal is 0.10 m and 90 %; these are floors under today's figures (seeds 1 to 3: 0.39 to
+    // 0.42 m, 44 to 50 %, through the labelled single-view tracker with the descriptors as given),
+    // against 0.02 m and 100 % for the cameras' simulated sets. The front end misses a head about a
+    // quarter of the time in each camera (mostly heads seen inside a nearer person's silhouette),
+    // which the fusion, told the detection probability is 0.95, answers with broken and doubled
+    // tracks.
+    assert!(worst_ospa <= 0.45, "mean OSPA {worst_ospa:.3} m");
     assert!(
-        worst_count >= 0.18,
+        worst_count >= 0.40,
         "right count {:.1} %",
         100.0 * worst_count
     );
