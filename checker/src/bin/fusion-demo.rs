@@ -45,7 +45,8 @@ struct Args {
     #[arg(long)]
     no_view: bool,
     /// Run the real front ends on raw signals (camera frames, audio, LIDAR scans) rendered from
-    /// the truth into the logs directory before the run, instead of simulated measurement sets.
+    /// the truth into the logs directory before the run, instead of simulated measurement sets. The
+    /// cameras' room and the LIDAR's scene are the default room's, whatever the scenario.
     #[arg(long)]
     raw: bool,
     /// With `--raw`: keep the rendered signals in `<logs>/raw/` after the run (1.2 GB for 30 s).
