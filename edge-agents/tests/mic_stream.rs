@@ -77,6 +77,7 @@ fn live_agent(descriptor: &Path) -> Child {
         .arg(descriptor)
         .args(["--wav", "-", "--output", "-"])
         .env("RUST_LOG", "info")
+        .env("NO_COLOR", "1")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -228,4 +229,42 @@ fn a_stream_closed_mid_frame_ends_cleanly_after_its_whole_frames() {
             .find(|l| l.contains("the audio stream ended"))
             .unwrap_or_default()
     );
+}
+
+/// The number after `name=` in a log line.
+fn logged_count(line: &str, name: &str) -> u64 {
+    let at = line.find(&format!("{name}=")).expect("field logged") + name.len() + 1;
+    line[at..]
+        .chars()
+        .take_while(char::is_ascii_digit)
+        .collect::<String>()
+        .parse()
+        .expect("a count")
+}
+
+#[test]
+fn audio_faster_than_the_analysis_is_dropped_in_whole_frames_counted_and_logged() {
+    // Five minutes of audio written at once: the reader takes it in far faster than the analysis
+    // runs, as a capture would outrun an overloaded agent, so its queue fills and frames are dropped.
+    let mut wav = delayed_noise_wav(300.0);
+    let header = as_stream(&mut wav);
+    let frames = ((wav.len() - header) / 4 / FRAME) as u64;
+    let (ok, stderr, stdout) = run_on(&wav);
+    assert!(ok, "{stderr}");
+    let replay = check_replay(&stdout);
+    let drop_report = stderr
+        .lines()
+        .find(|l| l.contains("whole frames dropped"))
+        .unwrap_or_else(|| panic!("the drops are logged: {stderr}"));
+    let end = stderr
+        .lines()
+        .find(|l| l.contains("the audio stream ended"))
+        .expect("the end is logged");
+    let (analysed, dropped) = (logged_count(end, "frames"), logged_count(end, "dropped"));
+    println!("{frames} frames written at once: {analysed} analysed, {dropped} dropped");
+    println!("  {drop_report}");
+    assert!(dropped > 0, "{end}");
+    // Every whole frame is either analysed (one set each) or counted as dropped: none vanishes.
+    assert_eq!(analysed + dropped, frames, "{end}");
+    assert_eq!(replay.sets.len() as u64, analysed);
 }
