@@ -1,7 +1,7 @@
 //! `fusion-demo --raw` as a user runs it: the default room's raw signals rendered from the truth,
 //! the real front ends of every agent on them, the server, and the demo's own truth. It must
 //! finish, print tracks, and score the fused tracks once everybody is in below 0.9 m (the front
-//! ends alone give 0.46–0.49 m for the cameras, 0.71 m for the microphone pairs and 0.15–0.22 m for
+//! ends alone give 0.39–0.42 m for the cameras, 0.71 m for the microphone pairs and 0.15–0.22 m for
 //! the LIDAR; the bound is loose because the agents share two cores with the server and fall
 //! behind under load).
 
