@@ -35,6 +35,8 @@ pub(crate) enum Inbound {
     Alive { sensor: SensorId, alive: bool },
     /// The current filter state is asked for (a standby joining the site starts from it).
     Checkpoint(tokio::sync::oneshot::Sender<Checkpoint>),
+    /// A standby takes the active server's filter state.
+    Restore(Box<Checkpoint>),
     /// Drain, checkpoint and stop.
     Shutdown,
 }
@@ -181,6 +183,12 @@ fn handle(
         Inbound::Checkpoint(reply) => {
             // The asker may have given up already; nothing to do then.
             let _ = reply.send(current_checkpoint(engine));
+            Ok(())
+        }
+        Inbound::Restore(checkpoint) => {
+            if let Err(e) = engine.restore(checkpoint.state) {
+                tracing::warn!(error = %e, "the active server's state was rejected");
+            }
             Ok(())
         }
         Inbound::Shutdown => Ok(()),

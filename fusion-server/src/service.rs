@@ -9,7 +9,7 @@
 //! One file per concern: `subscribers.rs`, `descriptor_fetch.rs`, `status_queryable.rs`;
 //! with `[server] role = "auto"`, `election.rs` decides whether this server is the site's
 //! active one (`role.rs` holds the rules): a standby filters the same sets without publishing
-//! or answering the site's queries (`site_answers.rs`) and starts from the active server's state
+//! or answering the site's queries (`site_answers.rs`) and keeps taking the active server's state
 //! (`handover.rs`); the signals that stop it are `transport::shutdown`'s.
 
 mod descriptor_fetch;
@@ -26,7 +26,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use protocol::{keys, InstanceId, SensorId, ServerRole, Site};
+use protocol::{keys, InstanceId, SensorId, Site};
 use tokio::sync::mpsc;
 use transport::wait_for_signal;
 use zenoh::query::Queryable;
@@ -61,7 +61,6 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
     // Subscribed first: what arrives while the election runs waits in the channel.
     let subscribers = Subscribers::declare(&session, &site, &inlet).await?;
     let elected = election::start(&session, &site, &config.server).await?;
-    start_from_active_server(&session, &site, &elected, &mut engine).await;
     let snapshot = Arc::new(Mutex::new(Snapshot {
         tracks: engine.tracks().clone(),
         status: engine.status(started),
@@ -73,6 +72,13 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
         history: history.clone(),
     };
     let answers = Answers::declare(&session, (&site, &me), &elected, &inlet, sources).await?;
+    let standby_sync = handover::spawn_standby_sync(
+        &session,
+        &site,
+        &inlet,
+        elected.role.clone(),
+        Duration::from_secs_f64(config.server.standby_sync_s),
+    );
     let (ask_tx, ask_rx) = mpsc::unbounded_channel::<SensorId>();
     descriptor_fetch::spawn(&session, &site, &inlet, ask_rx);
 
@@ -98,35 +104,10 @@ pub async fn run(config: ServerConfig) -> anyhow::Result<()> {
     // Let the publisher put the final track set before closing.
     tokio::time::sleep(Duration::from_millis(50)).await;
     publisher_task.abort();
+    standby_sync.abort();
     drop(answers);
     drop(elected);
     close(session, &site).await
-}
-
-/// A standby that finds an active server at start takes that server's filter state, which is
-/// newer than its own checkpoint (`handover.rs`).
-async fn start_from_active_server(
-    session: &zenoh::Session,
-    site: &Site,
-    elected: &Elected,
-    engine: &mut Engine,
-) {
-    if *elected.role.borrow() != ServerRole::Standby {
-        return;
-    }
-    for active in &elected.actives_at_start {
-        if let Some(checkpoint) = handover::fetch(session, site, active).await {
-            match engine.restore(checkpoint.state) {
-                Ok(()) => {
-                    tracing::info!(from = %active, "standing by from the active server's filter state");
-                    return;
-                }
-                Err(e) => {
-                    tracing::warn!(from = %active, error = %e, "the active server's state was rejected")
-                }
-            }
-        }
-    }
 }
 
 /// What the server answers: the site's queryables while active, its own status and state always.

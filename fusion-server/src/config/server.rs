@@ -4,7 +4,7 @@
 use protocol::InstanceId;
 use serde::Deserialize;
 
-use super::{invalid, ConfigError};
+use super::{invalid, positive, ConfigError};
 
 /// How a server decides whether it publishes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -19,7 +19,7 @@ pub enum RoleMode {
 }
 
 /// `[server]`: the server's role and its name among the site's servers.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ServerRoleConfig {
     /// `active` (the default: a lone server) or `auto` (active or hot standby).
@@ -28,6 +28,20 @@ pub struct ServerRoleConfig {
     /// `role = "auto"`, where each server needs its own. When two servers are active at once,
     /// the one with the smaller id stays active.
     pub instance_id: Option<String>,
+    /// Seconds between two times a standby takes the active server's filter state (and once when
+    /// it starts or stands down), so that whatever the two saw differently (a set one of them
+    /// missed, a late set handled at another moment) cannot part their labels for longer.
+    pub standby_sync_s: f64,
+}
+
+impl Default for ServerRoleConfig {
+    fn default() -> Self {
+        Self {
+            role: RoleMode::Active,
+            instance_id: None,
+            standby_sync_s: 2.0,
+        }
+    }
 }
 
 /// The instance id of a lone server that names none.
@@ -41,6 +55,7 @@ impl ServerRoleConfig {
     }
 
     pub(super) fn validate(&self) -> Result<(), ConfigError> {
+        positive("server.standby_sync_s", self.standby_sync_s)?;
         match &self.instance_id {
             Some(id) => InstanceId::new(id.as_str())
                 .map(|_| ())
@@ -62,7 +77,7 @@ mod tests {
     fn auto_needs_an_instance_id_and_ids_must_be_key_chunks() {
         let auto = ServerRoleConfig {
             role: RoleMode::Auto,
-            instance_id: None,
+            ..ServerRoleConfig::default()
         };
         assert!(auto
             .validate()
@@ -72,6 +87,7 @@ mod tests {
         let bad = ServerRoleConfig {
             role: RoleMode::Auto,
             instance_id: Some("a/b".into()),
+            ..ServerRoleConfig::default()
         };
         assert!(bad.validate().is_err());
         let lone = ServerRoleConfig::default();

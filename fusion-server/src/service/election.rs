@@ -19,8 +19,6 @@ const PROBE_TIMEOUT: Duration = Duration::from_secs(2);
 pub struct Elected {
     /// This server's role, updated as the election goes.
     pub role: watch::Receiver<ServerRole>,
-    /// The active servers seen at start (a standby starts from one's filter state).
-    pub actives_at_start: Vec<InstanceId>,
     task: tokio::task::JoinHandle<()>,
 }
 
@@ -74,13 +72,12 @@ pub async fn start(
     });
     Ok(Elected {
         role: role_rx,
-        actives_at_start: actives_at_start.into_iter().collect(),
         task,
     })
 }
 
 /// The active servers' tokens held now, as the router knows them.
-async fn probe(session: &zenoh::Session, site: &Site) -> Vec<InstanceId> {
+pub async fn probe(session: &zenoh::Session, site: &Site) -> Vec<InstanceId> {
     let key = keys::all_server_active_tokens(site);
     let replies = match session.liveliness().get(&key).timeout(PROBE_TIMEOUT).await {
         Ok(replies) => replies,

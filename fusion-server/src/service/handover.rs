@@ -1,13 +1,16 @@
-//! The filter state passed from the active server to a standby that joins later: each server
-//! answers `fusion/<site>/server/<instance>/checkpoint` with its current state (the engine thread
-//! makes it on demand), and a standby that finds an active server at start begins from its
-//! state rather than from its own checkpoint, which is older by however long it was away. The
-//! sets it then receives carry it on in step with the active server, so their labels agree.
+//! The filter state passed from the active server to its standbys: each server answers
+//! `fusion/<site>/server/<instance>/checkpoint` with its current state (the engine thread makes
+//! it on demand), and a standby takes the active server's state when it starts (rather than its
+//! own checkpoint, older by however long it was away), when it stands down after a split brain
+//! (it filtered on its own while it was active), and every `server.standby_sync_s` seconds. In
+//! between, the same sets carry both in step; the syncs bound how long anything one of them saw
+//! differently (a set the other missed, a late set handled at another moment) can part their
+//! labels.
 
 use std::time::Duration;
 
-use protocol::{keys, InstanceId, Site};
-use tokio::sync::oneshot;
+use protocol::{keys, InstanceId, ServerRole, Site};
+use tokio::sync::{oneshot, watch};
 use zenoh::bytes::Encoding;
 use zenoh::query::{Query, Queryable};
 
@@ -62,7 +65,7 @@ async fn reply(query: Query, state: oneshot::Receiver<Checkpoint>) {
 
 /// The current filter state of the active server `from`, or `None` (logged) when it does not
 /// answer usably.
-pub async fn fetch(session: &zenoh::Session, site: &Site, from: &InstanceId) -> Option<Checkpoint> {
+async fn fetch(session: &zenoh::Session, site: &Site, from: &InstanceId) -> Option<Checkpoint> {
     let key = keys::server_checkpoint_key(site, from);
     let replies = match session.get(&key).timeout(HANDOVER_TIMEOUT).await {
         Ok(replies) => replies,
@@ -88,5 +91,46 @@ pub async fn fetch(session: &zenoh::Session, site: &Site, from: &InstanceId) -> 
         }
     }
     tracing::warn!(%key, "no usable state from the active server");
+    None
+}
+
+/// Starts the task that keeps a standby on the active server's state; aborting it stops that.
+pub fn spawn_standby_sync(
+    session: &zenoh::Session,
+    site: &Site,
+    inlet: &Inlet,
+    mut role: watch::Receiver<ServerRole>,
+    every: Duration,
+) -> tokio::task::JoinHandle<()> {
+    let (session, site, inlet) = (session.clone(), site.clone(), inlet.clone());
+    tokio::spawn(async move {
+        let mut synced_once = false;
+        loop {
+            if *role.borrow_and_update() == ServerRole::Standby {
+                if let Some((from, checkpoint)) = active_state(&session, &site).await {
+                    if synced_once {
+                        tracing::debug!(%from, "took the active server's filter state");
+                    } else {
+                        tracing::info!(%from, "standing by from the active server's filter state");
+                    }
+                    synced_once = true;
+                    inlet.offer(Inbound::Restore(Box::new(checkpoint)));
+                }
+            }
+            tokio::select! {
+                _ = tokio::time::sleep(every) => {}
+                changed = role.changed() => if changed.is_err() { return },
+            }
+        }
+    })
+}
+
+/// The state of the site's active server, with its instance id.
+async fn active_state(session: &zenoh::Session, site: &Site) -> Option<(InstanceId, Checkpoint)> {
+    for active in super::election::probe(session, site).await {
+        if let Some(checkpoint) = fetch(session, site, &active).await {
+            return Some((active, checkpoint));
+        }
+    }
     None
 }
