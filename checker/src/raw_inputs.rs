@@ -15,7 +15,7 @@ use protocol::{keys, SensorModel, WireFormat};
 use rayon::prelude::*;
 use simulator::render::camera::{write_frame_directory, CameraRenderer, CameraRoom};
 use simulator::render::{
-    render_lidar_scan, render_mic_pair, AcousticRoom, LidarScene, ScanPattern,
+    render_lidar_scan, render_mic_pair, AcousticRoom, LidarScene, RenderedPair, ScanPattern,
 };
 use simulator::{Scenario, SensorSpec};
 use transport::ZenohConfig;
@@ -221,19 +221,25 @@ fn render_audio(
     let name = spec.sensor.as_str();
     let rendered = render_mic_pair(scenario, name, &AcousticRoom::default(), seed, duration_s)?;
     let file = dir.join(format!("{name}.wav"));
+    write_stereo_wav(&rendered, &file)?;
+    Ok(RawInput::Wav { file })
+}
+
+/// Writes a pair's rendered audio as a 32-bit float stereo WAV (channel 1 is the descriptor's
+/// microphone 1): what `edge-agent mic-pair --wav` reads.
+pub fn write_stereo_wav(rendered: &RenderedPair, file: &Path) -> Result<(), hound::Error> {
     let format = hound::WavSpec {
         channels: 2,
         sample_rate: rendered.sample_rate,
         bits_per_sample: 32,
         sample_format: hound::SampleFormat::Float,
     };
-    let mut writer = hound::WavWriter::create(&file, format)?;
+    let mut writer = hound::WavWriter::create(file, format)?;
     for (a, b) in rendered.mic1.iter().zip(&rendered.mic2) {
         writer.write_sample(*a as f32)?;
         writer.write_sample(*b as f32)?;
     }
-    writer.finalize()?;
-    Ok(RawInput::Wav { file })
+    writer.finalize()
 }
 
 /// A LIDAR's scans at its frame times up to `duration_s`, ray-cast over the default room's scene

@@ -9,6 +9,7 @@ use std::path::Path;
 use std::process::Command;
 
 use checker::processes::binary;
+use checker::raw_inputs::write_stereo_wav;
 use evaluation::TRUTH_TOLERANCE_S;
 use fusion_server::config::ServerConfig;
 use fusion_server::replay::replay;
@@ -49,18 +50,7 @@ fn agent_lines(
     let rendered =
         render_mic_pair(scenario, name, &AcousticRoom::default(), seed, SECONDS).unwrap();
     let wav = dir.join(format!("{name}.wav"));
-    let format = hound::WavSpec {
-        channels: 2,
-        sample_rate: rendered.sample_rate,
-        bits_per_sample: 32,
-        sample_format: hound::SampleFormat::Float,
-    };
-    let mut writer = hound::WavWriter::create(&wav, format).unwrap();
-    for (a, b) in rendered.mic1.iter().zip(&rendered.mic2) {
-        writer.write_sample(*a as f32).unwrap();
-        writer.write_sample(*b as f32).unwrap();
-    }
-    writer.finalize().unwrap();
+    write_stereo_wav(&rendered, &wav).unwrap();
     let descriptor = dir.join(format!("{name}.json"));
     let given = SensorDescriptor::new(
         scenario.site.clone(),
