@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use protocol::{keys, SensorId, Site, WireFormat};
+use protocol::{keys, InstanceId, SensorId, Site, WireFormat};
 use serde_json::{json, Value};
 use zenoh::query::{ConsolidationMode, Query};
 use zenoh::sample::Sample;
@@ -77,7 +77,7 @@ pub async fn impersonate(
     report.queryable_error = queryable.as_ref().err().map(|e| e.to_string());
     let measurements = keys::measurements_key(site, victim);
     let tracks = keys::tracks_key(site);
-    let tracks_json = format!("{tracks}/json");
+    let tracks_json = keys::tracks_json_key(site);
     let period = Duration::from_secs_f64(1.0 / rate_hz.max(1.0));
     let began = Instant::now();
     let mut i = 0;
@@ -237,7 +237,8 @@ pub async fn instance_status(
     site: &Site,
     instance: &str,
 ) -> anyhow::Result<Value> {
-    let selector = format!("{}/{site}/server/{instance}/status?format=json", keys::ROOT);
+    let key = keys::server_status_key(site, &InstanceId::new(instance)?);
+    let selector = format!("{key}?format=json");
     let replies = get_all(session, &selector).await?;
     let sample = replies
         .first()
