@@ -44,19 +44,37 @@ async fn role_of(session: &zenoh::Session, id: &str) -> Option<ServerRole> {
     instance_status(session, id).await.map(|s| s.role)
 }
 
-/// Waits up to `seconds` for the roles of `a` and `b` to be `want`.
+/// Waits up to `seconds` for the roles of servers `ids` to be `want`; returns the last seen.
 async fn wait_roles(
     session: &zenoh::Session,
-    want: (Option<ServerRole>, Option<ServerRole>),
+    ids: [&str; 2],
+    want: [ServerRole; 2],
     seconds: f64,
-) -> (Option<ServerRole>, Option<ServerRole>) {
+) -> [Option<ServerRole>; 2] {
     let deadline = now() + seconds;
     loop {
-        let got = (role_of(session, "a").await, role_of(session, "b").await);
-        if got == want || now() > deadline {
+        let got = [
+            role_of(session, ids[0]).await,
+            role_of(session, ids[1]).await,
+        ];
+        if got == want.map(Some) || now() > deadline {
             return got;
         }
         sleep(0.1).await;
+    }
+}
+
+/// Waits up to `seconds` for exactly one of `a` and `b` to be active and the other standby;
+/// returns the active one's id.
+async fn wait_one_active(session: &zenoh::Session, seconds: f64) -> Option<&'static str> {
+    let deadline = now() + seconds;
+    loop {
+        match [role_of(session, "a").await, role_of(session, "b").await] {
+            [Some(ServerRole::Active), Some(ServerRole::Standby)] => return Some("a"),
+            [Some(ServerRole::Standby), Some(ServerRole::Active)] => return Some("b"),
+            _ if now() > deadline => return None,
+            _ => sleep(0.1).await,
+        }
     }
 }
 
@@ -146,33 +164,41 @@ async fn the_standby_takes_over_with_the_same_ids_and_hands_its_state_back() -> 
     let dir = scratch("standby");
     let hub = Hub::start().await?;
     let observer = Observer::start(&hub.session, &Site::default()).await?;
-    // Both at once: each may see itself alone and become active; the split brain settles on a.
+    // Both at once: whichever is seen first stays active (or, if each saw itself alone, the
+    // split brain settles on a); either way exactly one is active.
     let a = auto_server(&hub, &dir, "a", "a.log")?;
     let b = auto_server(&hub, &dir, "b", "b.log")?;
-    let settled = (Some(ServerRole::Active), Some(ServerRole::Standby));
-    let roles = wait_roles(&hub.session, settled, 10.0).await;
-    assert_eq!(
-        roles, settled,
-        "a active, b standby after starting together"
-    );
+    let first_active = wait_one_active(&hub.session, 10.0)
+        .await
+        .expect("exactly one of a and b active, the other standby, after starting together");
+    println!("started together: {first_active} is active");
+    let ((active, active_id), (standby, standby_id)) = if first_active == "a" {
+        ((a, "a"), (b, "b"))
+    } else {
+        ((b, "b"), (a, "a"))
+    };
 
     let start = now() + 0.5;
     let _agents = start_agents(&hub.endpoint, &dir.join("agents.log"), start, 30.0, 11)?;
     sleep(0.5 + ALL_IN_S + 2.0).await;
-    takeover(&hub, &observer, &a, "b").await?;
-    drop(a);
+    takeover(&hub, &observer, &active, standby_id).await?;
+    drop(active);
 
-    // a returns: b stays active, a stands by from b's state.
-    let a = auto_server(&hub, &dir, "a", "a2.log")?;
-    let swapped = (Some(ServerRole::Standby), Some(ServerRole::Active));
-    assert_eq!(wait_roles(&hub.session, swapped, 10.0).await, swapped);
-    let log = std::fs::read_to_string(dir.join("a2.log"))?;
+    // The killed one returns: the new active stays, the returning one stands by from its state.
+    let log_name = format!("{active_id}2.log");
+    let returned = auto_server(&hub, &dir, active_id, &log_name)?;
+    let swapped = [ServerRole::Standby, ServerRole::Active];
+    assert_eq!(
+        wait_roles(&hub.session, [active_id, standby_id], swapped, 10.0).await,
+        swapped.map(Some)
+    );
+    let log = std::fs::read_to_string(dir.join(&log_name))?;
     assert!(
         log.contains("standing by from the active server's filter state"),
         "{log}"
     );
     sleep(3.0).await;
-    takeover(&hub, &observer, &b, "a").await?;
-    drop(a);
+    takeover(&hub, &observer, &standby, active_id).await?;
+    drop(returned);
     Ok(())
 }

@@ -66,11 +66,12 @@ pub const TRACK_SET_WITHOUT_VELOCITY: &str = r#"{"version": 1, "site": "default"
              "position_covariance": [[0.04, 0.01, 0.0], [0.01, 0.04, 0.0], [0.0, 0.0, 0.09]],
              "weight": 0.97, "first_seen": 1763700000.0}]}"#;
 
-/// A status before any set or publication: `last_stamp` and the latencies are `null`.
+/// A status before any set or publication: `last_stamp` and the latencies are `null`; `role`
+/// is one of the fields version 1 has gained since the contract's own example.
 pub const STATUS_AT_START: &str = r#"{"version": 1, "site": "default", "uptime_s": 0.1,
  "stamp": 0.0, "components": 0, "tracks": 0,
  "sensors": [{"sensor": "uwb", "kind": "position", "alive": false, "last_stamp": null,
               "received": 0, "processed": 0, "late": 0, "invalid": 0, "lost": 0,
               "rollbacks": 0, "reprocessed": 0}],
  "rejected": {"undecodable": 0, "unknown_sensor": 0, "invalid": 0, "late": 0},
- "latency_ms": {"p50": null, "p99": null}}"#;
+ "latency_ms": {"p50": null, "p99": null}, "role": "active"}"#;
