@@ -29,6 +29,28 @@ struct Figures {
     ospa: f64,
     right_count: f64,
     track_ids: usize,
+    /// Share right among the track sets in which no two people are within [`APART_M`], and how
+    /// many such sets there are.
+    right_apart: f64,
+    apart_sets: usize,
+}
+
+/// People farther apart than this (heads, horizontally) stand clear of one another.
+const APART_M: f64 = 0.6;
+
+/// Whether at scenario time `t` every two people present are at least [`APART_M`] apart.
+fn everyone_apart(scenario: &Scenario, seed: u64, t: f64) -> bool {
+    let heads: Vec<[f64; 3]> = scenario
+        .targets
+        .iter()
+        .filter(|target| target.is_present(t))
+        .map(|target| target.position_at(seed, t))
+        .collect();
+    heads.iter().enumerate().all(|(i, a)| {
+        heads[i + 1..]
+            .iter()
+            .all(|b| (a[0] - b[0]).hypot(a[1] - b[1]) >= APART_M)
+    })
 }
 
 /// Renders `camera` and runs it through `edge-agent camera --frames`; returns its replay lines.
@@ -237,6 +259,14 @@ fn fuse(
         .iter()
         .filter(|s| s.truth_count == s.track_count)
         .count();
+    let apart: Vec<_> = scored
+        .iter()
+        .filter(|s| everyone_apart(scenario, seed, s.stamp - START))
+        .collect();
+    let apart_right = apart
+        .iter()
+        .filter(|s| s.truth_count == s.track_count)
+        .count();
     let mut ids: Vec<u64> = report
         .tracks
         .iter()
@@ -246,6 +276,8 @@ fn fuse(
     ids.sort_unstable();
     ids.dedup();
     Figures {
+        right_apart: apart_right as f64 / apart.len().max(1) as f64,
+        apart_sets: apart.len(),
         ospa: report.mean_ospa_from(from).unwrap(),
         right_count: right as f64 / scored.len().max(1) as f64,
         track_ids: ids.len(),
@@ -266,9 +298,13 @@ fn rendered_cameras_track_the_room_in_3d() {
         );
         let f = figures(seed);
         println!(
-            "seed {seed}: mean OSPA {:.3} m, right count {:.1} % of track sets, {} track ids (3 people), from {SCORED_FROM_S} s to {TO_S} s",
+            "seed {seed}: mean OSPA {:.3} m, right count {:.1} % of track sets ({:.1} % of the {} \
+             in which no two people are within {APART_M} m), {} track ids (3 people), from \
+             {SCORED_FROM_S} s to {TO_S} s",
             f.ospa,
             100.0 * f.right_count,
+            100.0 * f.right_apart,
+            f.apart_sets,
             f.track_ids
         );
         worst_ospa = worst_ospa.max(f.ospa);
@@ -285,7 +321,9 @@ fn rendered_cameras_track_the_room_in_3d() {
     // for many frames in a row), within 3 to 6 px RMS, and 0.35 to 1.3 points per set near no
     // head; the fusion answers the long runs of misses with broken and doubled tracks. Neither
     // the descriptor's p_D set to what is published (0.7) nor coasting the single-view tracks
-    // for 0.6 s instead of 0.2 s changes the figures by more than 0.02 m.
+    // for 0.6 s instead of 0.2 s changes the figures by more than 0.02 m. Unlike the LIDAR's, the
+    // count is no better while everyone stands clear of everyone else (37 to 48 % of those sets):
+    // in the images people overlap at any distance, and the misses follow the views, not the floor.
     assert!(worst_ospa <= 0.45, "mean OSPA {worst_ospa:.3} m");
     assert!(
         worst_count >= 0.40,
