@@ -322,8 +322,8 @@ fn rendered_cameras_track_the_room_in_3d() {
     // head; the fusion answers the long runs of misses with broken and doubled tracks. Neither
     // the descriptor's p_D set to what is published (0.7) nor coasting the single-view tracks
     // for 0.6 s instead of 0.2 s changes the figures by more than 0.02 m. Unlike the LIDAR's, the
-    // count is no better while everyone stands clear of everyone else (37 to 48 % of those sets):
-    // in the images people overlap at any distance, and the misses follow the views, not the floor.
+    // count is no better while everyone stands clear of everyone else (37 to 48 % of those sets;
+    // in an image two people overlap whenever one stands behind the other, however far apart).
     assert!(worst_ospa <= 0.45, "mean OSPA {worst_ospa:.3} m");
     assert!(
         worst_count >= 0.40,
