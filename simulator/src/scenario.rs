@@ -101,4 +101,22 @@ impl Scenario {
     pub fn truth_count(&self, duration_s: f64) -> u64 {
         count_instants(0.0, self.truth_rate_hz, duration_s)
     }
+
+    /// The smallest horizontal distance between two targets present at scenario time `t` of run
+    /// `seed`, `None` with fewer than two: how close the people come (the targets' motions are
+    /// independent, so they may walk through one another).
+    pub fn closest_pair_m(&self, seed: u64, t: f64) -> Option<f64> {
+        let heads: Vec<[f64; 3]> = self
+            .targets
+            .iter()
+            .filter(|target| target.is_present(t))
+            .map(|target| target.position_at(seed, t))
+            .collect();
+        let pairs = heads.iter().enumerate().flat_map(|(i, a)| {
+            heads[i + 1..]
+                .iter()
+                .map(move |b| (a[0] - b[0]).hypot(a[1] - b[1]))
+        });
+        pairs.reduce(f64::min)
+    }
 }

@@ -109,3 +109,26 @@ fn scenarios_md_example_parses() {
     assert_eq!(kinds, SensorKind::ALL);
     Simulation::new(scenario, 1).unwrap();
 }
+
+#[test]
+fn the_closest_pair_is_the_smallest_horizontal_distance_between_present_people() {
+    let room = default_room();
+    assert_eq!(room.closest_pair_m(1, -1.0), None, "nobody in the room yet");
+    let t = 10.0;
+    let heads: Vec<[f64; 3]> = room
+        .targets
+        .iter()
+        .filter(|target| target.is_present(t))
+        .map(|target| target.position_at(1, t))
+        .collect();
+    assert!(heads.len() >= 2);
+    let closest = room.closest_pair_m(1, t).unwrap();
+    for (i, a) in heads.iter().enumerate() {
+        for b in &heads[i + 1..] {
+            assert!((a[0] - b[0]).hypot(a[1] - b[1]) >= closest);
+        }
+    }
+    assert!(heads.iter().enumerate().any(|(i, a)| heads[i + 1..]
+        .iter()
+        .any(|b| (a[0] - b[0]).hypot(a[1] - b[1]) == closest)));
+}

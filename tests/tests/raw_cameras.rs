@@ -40,17 +40,9 @@ const APART_M: f64 = 0.6;
 
 /// Whether at scenario time `t` every two people present are at least [`APART_M`] apart.
 fn everyone_apart(scenario: &Scenario, seed: u64, t: f64) -> bool {
-    let heads: Vec<[f64; 3]> = scenario
-        .targets
-        .iter()
-        .filter(|target| target.is_present(t))
-        .map(|target| target.position_at(seed, t))
-        .collect();
-    heads.iter().enumerate().all(|(i, a)| {
-        heads[i + 1..]
-            .iter()
-            .all(|b| (a[0] - b[0]).hypot(a[1] - b[1]) >= APART_M)
-    })
+    scenario
+        .closest_pair_m(seed, t)
+        .is_none_or(|d| d >= APART_M)
 }
 
 /// Renders `camera` and runs it through `edge-agent camera --frames`; returns its replay lines.

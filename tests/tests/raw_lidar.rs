@@ -222,24 +222,6 @@ impl std::fmt::Display for ServerFigures {
     }
 }
 
-/// Whether at `stamp` every two people of the room's run `seed` are at least [`APART_M`] apart
-/// horizontally.
-fn everyone_apart(seed: u64, stamp: f64) -> bool {
-    let scenario = simulator::default_room();
-    let t = stamp - START;
-    let heads: Vec<[f64; 3]> = scenario
-        .targets
-        .iter()
-        .filter(|target| target.is_present(t))
-        .map(|target| target.position_at(seed, t))
-        .collect();
-    heads.iter().enumerate().all(|(i, a)| {
-        heads[i + 1..]
-            .iter()
-            .all(|b| (a[0] - b[0]).hypot(a[1] - b[1]) >= APART_M)
-    })
-}
-
 /// Runs the server's offline replay over `lines` (in stamp order) of the room's run `seed` and
 /// scores it.
 fn server_figures(lines: &[ReplayLine], seed: u64) -> ServerFigures {
@@ -258,9 +240,13 @@ fn server_figures(lines: &[ReplayLine], seed: u64) -> ServerFigures {
             .filter(|s| keep(s.track_count, s.truth_count))
             .count()
     };
+    let room = simulator::default_room();
     let apart: Vec<_> = scored
         .iter()
-        .filter(|s| everyone_apart(seed, s.stamp))
+        .filter(|s| {
+            room.closest_pair_m(seed, s.stamp - START)
+                .is_none_or(|d| d >= APART_M)
+        })
         .collect();
     let apart_right = apart
         .iter()

@@ -44,12 +44,13 @@ async fn role_of(session: &zenoh::Session, id: &str) -> Option<ServerRole> {
     instance_status(session, id).await.map(|s| s.role)
 }
 
-/// Waits up to `seconds` for the roles of servers `ids` to be `want`; returns the last seen.
-async fn wait_roles(
+/// The roles of servers `ids`, polled every 0.1 s until `done` accepts them or `seconds` have
+/// passed; returns the last seen.
+async fn watch_roles(
     session: &zenoh::Session,
     ids: [&str; 2],
-    want: [ServerRole; 2],
     seconds: f64,
+    done: impl Fn(&[Option<ServerRole>; 2]) -> bool,
 ) -> [Option<ServerRole>; 2] {
     let deadline = now() + seconds;
     loop {
@@ -57,24 +58,37 @@ async fn wait_roles(
             role_of(session, ids[0]).await,
             role_of(session, ids[1]).await,
         ];
-        if got == want.map(Some) || now() > deadline {
+        if done(&got) || now() > deadline {
             return got;
         }
         sleep(0.1).await;
     }
 }
 
+/// Waits up to `seconds` for the roles of servers `ids` to be `want`; returns the last seen.
+async fn wait_roles(
+    session: &zenoh::Session,
+    ids: [&str; 2],
+    want: [ServerRole; 2],
+    seconds: f64,
+) -> [Option<ServerRole>; 2] {
+    watch_roles(session, ids, seconds, |got| *got == want.map(Some)).await
+}
+
 /// Waits up to `seconds` for exactly one of `a` and `b` to be active and the other standby;
 /// returns the active one's id.
 async fn wait_one_active(session: &zenoh::Session, seconds: f64) -> Option<&'static str> {
-    let deadline = now() + seconds;
-    loop {
-        match [role_of(session, "a").await, role_of(session, "b").await] {
-            [Some(ServerRole::Active), Some(ServerRole::Standby)] => return Some("a"),
-            [Some(ServerRole::Standby), Some(ServerRole::Active)] => return Some("b"),
-            _ if now() > deadline => return None,
-            _ => sleep(0.1).await,
-        }
+    use ServerRole::{Active, Standby};
+    let one_active = |got: &[Option<ServerRole>; 2]| {
+        matches!(
+            got,
+            [Some(Active), Some(Standby)] | [Some(Standby), Some(Active)]
+        )
+    };
+    match watch_roles(session, ["a", "b"], seconds, one_active).await {
+        [Some(Active), Some(Standby)] => Some("a"),
+        [Some(Standby), Some(Active)] => Some("b"),
+        _ => None,
     }
 }
 
