@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Builds the Docker images of the deployment (docker/README.md), from a clean clone, without a registry:
-#   1. the workspace's static binaries (reused when .ci/run already built them: same target and flags);
-#   2. zenohd 1.10.2 from crates.io, static, cached under the target directory;
-#   3. the secure profile's identities (docker/deployment.txt): a TLS client certificate each, passwords,
+#   1. the workspace's static binaries (reused when .ci/run already built them: same target and flags),
+#      the router fusion-router among them (a Zenoh session in router mode: no separate zenohd build);
+#   2. the secure profile's identities (docker/deployment.txt): a TLS client certificate each, passwords,
 #      the router's access control, into docker/certs/ (git-ignored);
-#   4. one FROM-scratch image per program: fusion/zenohd, fusion/server, fusion/edge-agent, fusion/checker,
+#   3. one FROM-scratch image per program: fusion/router, fusion/server, fusion/edge-agent, fusion/checker,
 #      fusion/view.
 # Every step is skipped when its result is already there, so a second run takes seconds.
 set -euo pipefail
@@ -13,7 +13,6 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/.." && pwd)"
 cd "$repo"
 
-ZENOHD_VERSION=1.10.2
 TAG="${FUSION_IMAGE_TAG:-latest}"
 
 # The same target and flags as .ci/run: cargo then finds its own build and does nothing.
@@ -21,7 +20,6 @@ export CARGO_BUILD_TARGET=x86_64-unknown-linux-gnu
 export RUSTFLAGS="-C target-feature=+crt-static"
 target_dir="${CARGO_TARGET_DIR:-$repo/target}"
 bin_dir="$target_dir/$CARGO_BUILD_TARGET/release"
-zenohd_root="$target_dir/zenohd-$ZENOHD_VERSION"
 context="$target_dir/docker-context"
 
 step_began=0
@@ -33,7 +31,7 @@ done_step() { printf '    (%d s)\n' "$((SECONDS - step_began))"; }
 
 # ------------------------------------------------------------------ 1. our binaries
 step "workspace binaries (static, $bin_dir)"
-programs=(fusion-server edge-agent fusion-checker fusion-view)
+programs=(fusion-router fusion-server edge-agent fusion-checker fusion-view)
 missing=0
 for p in "${programs[@]}"; do [ -x "$bin_dir/$p" ] || missing=1; done
 if [ "$missing" = 1 ] || [ "${FUSION_REBUILD:-0}" = 1 ]; then
@@ -44,27 +42,12 @@ else
 fi
 done_step
 
-# ------------------------------------------------------------------ 2. zenohd
-step "zenohd $ZENOHD_VERSION ($zenohd_root)"
-zenohd_version() { RUST_LOG=error NO_COLOR=1 "$zenohd_root/bin/zenohd" --version 2>/dev/null || true; }
-if [ -x "$zenohd_root/bin/zenohd" ] && grep -q "v$ZENOHD_VERSION" <<<"$(zenohd_version)"; then
-  echo "    present"
-else
-  # A private build directory: zenohd's own lock file must not disturb the workspace's build cache.
-  CARGO_TARGET_DIR="$zenohd_root/build" \
-    cargo install zenohd --version "$ZENOHD_VERSION" --locked --root "$zenohd_root" --force
-  rm -rf "$zenohd_root/build"
-  echo "    built zenohd in $((SECONDS - step_began)) s"
-fi
-echo "    $(zenohd_version)"
-done_step
-
-# ------------------------------------------------------------------ 3. certificates and credentials
+# ------------------------------------------------------------------ 2. certificates and credentials
 step "identities of docker/deployment.txt for the secure profile: certificates, passwords, access control (docker/certs/)"
 "$here/make-certs.sh" "$here/certs"
 done_step
 
-# ------------------------------------------------------------------ 4. images
+# ------------------------------------------------------------------ 3. images
 step "images FROM scratch (tag $TAG)"
 # The build context holds only what the images copy: the binaries and the baked-in configuration.
 mkdir -p "$context/bin" "$context/config" "$context/state"
@@ -72,13 +55,12 @@ sync_file() { # copies $1 to $2 unless identical (keeps mtimes, so the context s
   cmp -s "$1" "$2" 2>/dev/null || cp -p "$1" "$2"
 }
 for p in "${programs[@]}"; do sync_file "$bin_dir/$p" "$context/bin/$p"; done
-sync_file "$zenohd_root/bin/zenohd" "$context/bin/zenohd"
 sync_file "$here/config/fusion.toml" "$context/config/fusion.toml"
 for f in "$here"/zenoh/*.json5; do sync_file "$f" "$context/config/$(basename "$f")"; done
 sync_file "$here/Dockerfile" "$context/Dockerfile"
 
 # "docker build" pulls nothing here: every stage is FROM scratch (no registry is needed or reachable).
-for image in zenohd server edge-agent checker view; do
+for image in router server edge-agent checker view; do
   # Quiet unless it fails (the legacy builder also warns that it is deprecated).
   if ! log="$(docker build --target "$image" --tag "fusion/$image:$TAG" "$context" 2>&1)"; then
     echo "$log"
@@ -89,9 +71,9 @@ for image in zenohd server edge-agent checker view; do
 done
 done_step
 
-# ------------------------------------------------------------------ 5. smoke test of the images
+# ------------------------------------------------------------------ 4. smoke test of the images
 step "smoke test: each image starts, and service names resolve in the static binaries"
-for image in zenohd server edge-agent checker view; do
+for image in router server edge-agent checker view; do
   version="$(docker run --rm -e RUST_LOG=error -e NO_COLOR=1 "fusion/$image:$TAG" --version)"
   printf '    fusion/%-18s runs: %s\n' "$image:$TAG" "$version"
 done
@@ -105,7 +87,7 @@ cleanup_smoke() {
 }
 trap cleanup_smoke EXIT
 docker run -d --name "$net-router" --network "$net" --network-alias smoke-router --init \
-  "fusion/zenohd:$TAG" --config /etc/fusion/zenoh/router.json5 >/dev/null
+  "fusion/router:$TAG" --config /etc/fusion/zenoh/router.json5 >/dev/null
 resolved=0
 for _ in $(seq 1 20); do
   # `status` fails (no fusion server) but only after the session opened, which needs the name resolved.

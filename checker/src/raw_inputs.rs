@@ -70,21 +70,20 @@ pub enum RawInput {
 }
 
 /// Renders every sensor of `scenario` for `duration_s` seconds of run `seed` into `dir`, two
-/// sensors at a time (one per core), printing each one as it is done and the total. Whatever `dir`
-/// held is removed first: the agents read every frame and scan there, so a longer earlier run's
-/// would be read too.
+/// sensors at a time (one per core), printing each one as it is done and the total, each line
+/// begun with `program` (the program printing it). Whatever `dir`
+/// held is removed first (the directory itself is kept: it may be a mount point): the agents read
+/// every frame and scan there, so a longer earlier run's would be read too.
 pub fn render_sensors(
     scenario: &Scenario,
     seed: u64,
     duration_s: f64,
     dir: &Path,
+    program: &str,
 ) -> anyhow::Result<Vec<RawSensor>> {
-    if dir.exists() {
-        std::fs::remove_dir_all(dir)?;
-    }
-    std::fs::create_dir_all(dir)?;
+    clear_directory(dir)?;
     println!(
-        "fusion-demo: rendering the raw signals of {} sensors ({duration_s} s) into {} …",
+        "{program}: rendering the raw signals of {} sensors ({duration_s} s) into {} …",
         scenario.sensors.len(),
         dir.display()
     );
@@ -95,7 +94,7 @@ pub fn render_sensors(
         .map(|spec| {
             let sensor = render_sensor(scenario, spec, seed, duration_s, dir)?;
             println!(
-                "fusion-demo: rendered {:8} {} in {:.1} s",
+                "{program}: rendered {:8} {} in {:.1} s",
                 sensor.sensor,
                 sensor.input.describe(),
                 sensor.render_s
@@ -104,12 +103,26 @@ pub fn render_sensors(
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let took = began.elapsed().as_secs_f64();
-    println!("fusion-demo: rendering took {took:.1} s");
+    println!("{program}: rendering took {took:.1} s");
     if took > 60.0 {
         // The demo's start is paced by this, not by the pipeline: say what shortens it.
-        println!("fusion-demo: rendering takes over a minute; a shorter --duration renders less");
+        println!("{program}: rendering takes over a minute; a shorter --duration renders less");
     }
     Ok(sensors)
+}
+
+/// Creates `dir`, or empties it when it exists.
+fn clear_directory(dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            std::fs::remove_dir_all(&path)?;
+        } else {
+            std::fs::remove_file(&path)?;
+        }
+    }
+    Ok(())
 }
 
 /// Removes the rendered signals in `dir` (about 40 MB per second of the default room, mostly PNG
@@ -140,7 +153,33 @@ fn directory_size(dir: &Path) -> u64 {
         .sum()
 }
 
+impl RawSensor {
+    /// Where `edge-agent --start-file` reads this sensor's first stamp: `<sensor>.start` beside
+    /// its descriptor.
+    pub fn start_file(&self) -> PathBuf {
+        self.descriptor.with_extension("start")
+    }
+
+    /// Writes the stamp of this sensor's first frame, scenario time 0 being Unix time `start`, to
+    /// [`RawSensor::start_file`], whole or not at all (written beside it, then renamed), so an
+    /// agent waiting for it never reads half a number.
+    pub fn write_start_file(&self, start: f64) -> std::io::Result<()> {
+        let path = self.start_file();
+        let partial = path.with_extension("start.partial");
+        std::fs::write(&partial, format!("{:.6}\n", start + self.input.first_s()))?;
+        std::fs::rename(&partial, &path)
+    }
+}
+
 impl RawInput {
+    /// Scenario time of the first frame, scan or sample.
+    pub fn first_s(&self) -> f64 {
+        match self {
+            RawInput::Frames { first_s, .. } | RawInput::Scans { first_s, .. } => *first_s,
+            RawInput::Wav { .. } => 0.0,
+        }
+    }
+
     /// What was rendered, for the progress lines.
     fn describe(&self) -> String {
         let count = |dir: &Path| std::fs::read_dir(dir).map_or(0, |d| d.count());
@@ -274,24 +313,44 @@ fn render_scans(
 /// peer of `endpoint`, with scenario time 0 at Unix time `start`: each input's first frame is
 /// stamped `start` plus its own scenario time, so that every agent's stamps and the truth agree.
 pub fn agent_command(agent_bin: &Path, sensor: &RawSensor, endpoint: &str, start: f64) -> Command {
-    let stamp = |scenario_s: f64| format!("{:.6}", start + scenario_s);
+    let mut cmd = front_end_command(agent_bin, sensor, start);
+    cmd.args(["--mode", "peer", "--connect", endpoint]);
+    cmd
+}
+
+/// The `edge-agent` command that runs `sensor`'s front end on its rendered signal as fast as it
+/// can and writes its replay lines to `output` (`-`: stdout) instead of publishing; stamps as
+/// [`agent_command`]'s.
+pub fn agent_output_command(
+    agent_bin: &Path,
+    sensor: &RawSensor,
+    start: f64,
+    output: &Path,
+) -> Command {
+    let mut cmd = front_end_command(agent_bin, sensor, start);
+    cmd.arg("--output").arg(output);
+    cmd
+}
+
+/// The subcommand, input, stamps and descriptor of `sensor`'s agent.
+fn front_end_command(agent_bin: &Path, sensor: &RawSensor, start: f64) -> Command {
     let mut cmd = Command::new(agent_bin);
     match &sensor.input {
-        RawInput::Frames { dir, fps, first_s } => {
+        RawInput::Frames { dir, fps, .. } => {
             cmd.arg("camera").arg("--frames").arg(dir);
-            cmd.args(["--fps", &fps.to_string(), "--start", &stamp(*first_s)]);
+            cmd.args(["--fps", &fps.to_string()]);
         }
         RawInput::Wav { file } => {
             cmd.arg("mic-pair").arg("--wav").arg(file);
-            cmd.args(["--start", &stamp(0.0)]);
         }
-        RawInput::Scans { dir, rate, first_s } => {
+        RawInput::Scans { dir, rate, .. } => {
             cmd.arg("lidar").arg("--scans").arg(dir);
-            cmd.args(["--rate", &rate.to_string(), "--start", &stamp(*first_s)]);
+            cmd.args(["--rate", &rate.to_string()]);
         }
     }
+    let first_stamp = start + sensor.input.first_s();
+    cmd.args(["--start", &format!("{first_stamp:.6}")]);
     cmd.arg("--descriptor").arg(&sensor.descriptor);
-    cmd.args(["--mode", "peer", "--connect", endpoint]);
     cmd
 }
 
@@ -311,6 +370,21 @@ pub async fn publish_truth(
         ..ZenohConfig::default()
     };
     let session = config.open().await?;
+    publish_truth_on(&session, &scenario, seed, start, duration_s).await?;
+    session
+        .close()
+        .await
+        .map_err(|e| anyhow::anyhow!("closing the truth session: {e}"))
+}
+
+/// Publishes the scenario's truth on `session` as [`publish_truth`] does.
+pub async fn publish_truth_on(
+    session: &zenoh::Session,
+    scenario: &Scenario,
+    seed: u64,
+    start: f64,
+    duration_s: f64,
+) -> anyhow::Result<()> {
     let format = WireFormat::Postcard;
     // Block, as the agents do: a truth set dropped under a burst would leave tracks unscored.
     let publisher = session
@@ -320,7 +394,7 @@ pub async fn publish_truth(
         .await
         .map_err(|e| anyhow::anyhow!("declaring the truth publisher: {e}"))?;
     for k in 0..scenario.truth_count(duration_s) {
-        let truth = simulator::truth_set(&scenario, seed, start, k);
+        let truth = simulator::truth_set(scenario, seed, start, k);
         let wait = truth.stamp - fusion_server::clock::now();
         if wait > 0.0 {
             tokio::time::sleep(Duration::from_secs_f64(wait)).await;
@@ -330,9 +404,5 @@ pub async fn publish_truth(
             tracing::warn!(error = %e, "putting a truth set failed");
         }
     }
-    drop(publisher);
-    session
-        .close()
-        .await
-        .map_err(|e| anyhow::anyhow!("closing the truth session: {e}"))
+    Ok(())
 }

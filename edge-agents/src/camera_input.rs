@@ -4,9 +4,11 @@
 use std::path::Path;
 
 use frontends::camera::{
-    read_mot_detections, CameraConfig, CameraPipeline, FrameDirectory, FrameRate, FrameTiming,
+    read_mot_detections, CameraConfig, FrameDirectory, FrameRate, FrameTiming, FrontEndKind,
 };
+use protocol::CameraModel;
 
+use crate::camera_frontend::{Estimated, FrameProcessor, ProcessedFrame};
 use crate::capture_clock::CaptureClock;
 use crate::cli::CameraCommand;
 use crate::error::AgentError;
@@ -23,6 +25,38 @@ pub struct HeadPoints {
     pub frame_size: Option<[u32; 2]>,
     /// `[u, v]` per detected head, pixels.
     pub points: Vec<[f64; 2]>,
+    /// For points the front end already filtered over time (the image tracker): their covariances and
+    /// its account of them; `None` for raw points.
+    pub estimated: Option<Estimated>,
+}
+
+impl HeadPoints {
+    /// A processed frame's points, stamped, from an image of `frame_size`.
+    pub fn from_processed(stamp: f64, frame_size: [u32; 2], processed: ProcessedFrame) -> Self {
+        Self {
+            stamp,
+            frame_size: Some(frame_size),
+            points: processed.points,
+            estimated: processed.estimated,
+        }
+    }
+}
+
+/// Which front end decoded frames go through, and for which camera.
+pub struct FrontEndChoice<'a> {
+    /// The front end.
+    pub kind: FrontEndKind,
+    /// Its configuration.
+    pub config: &'a CameraConfig,
+    /// The camera (the image tracker projects people through it).
+    pub camera: &'a CameraModel,
+}
+
+impl FrontEndChoice<'_> {
+    /// The frame processor.
+    pub fn processor(&self) -> Result<FrameProcessor, AgentError> {
+        FrameProcessor::new(self.kind, self.config, self.camera)
+    }
 }
 
 /// What an input yields next.
@@ -50,7 +84,7 @@ pub enum CameraInput {
         /// The directory.
         frames: FrameDirectory,
         /// Boxed: it holds the background model's buffers, much larger than the other variants.
-        pipeline: Box<CameraPipeline>,
+        processor: Box<FrameProcessor>,
         /// Index of the next frame to load.
         next: usize,
         /// Added to every stamp (see `--stamps` with `--start`).
@@ -70,12 +104,13 @@ pub enum CameraInput {
 /// Opens the one input the flags name.
 pub fn open_input(
     command: &CameraCommand,
-    config: &CameraConfig,
+    front_end: &FrontEndChoice,
     start: f64,
 ) -> Result<OpenedInput, AgentError> {
+    let config = front_end.config;
     match (&command.frames, &command.video, &command.detections) {
-        (Some(dir), None, None) => open_frames(command, dir, config, start),
-        (None, Some(_), None) => VideoInput::open(command, config, start),
+        (Some(dir), None, None) => open_frames(command, dir, front_end, start),
+        (None, Some(_), None) => VideoInput::open(command, front_end, start),
         (None, None, Some(path)) if path.as_os_str() == "-" => {
             if command.fps.is_some() || command.stamps.is_some() {
                 return Err(AgentError::Usage(
@@ -103,7 +138,7 @@ pub fn open_input(
 fn open_frames(
     command: &CameraCommand,
     dir: &Path,
-    config: &CameraConfig,
+    front_end: &FrontEndChoice,
     start: f64,
 ) -> Result<OpenedInput, AgentError> {
     let (timing, shift) = match (&command.stamps, command.fps) {
@@ -128,11 +163,11 @@ fn open_frames(
     } else {
         first + offset
     };
-    let pipeline = Box::new(CameraPipeline::new(config.clone())?);
+    let processor = Box::new(front_end.processor()?);
     Ok(OpenedInput {
         input: CameraInput::Frames {
             frames,
-            pipeline,
+            processor,
             next: 0,
             offset,
         },
@@ -185,7 +220,7 @@ impl CameraInput {
         match self {
             CameraInput::Frames {
                 frames,
-                pipeline,
+                processor,
                 next,
                 offset,
             } => {
@@ -194,14 +229,11 @@ impl CameraInput {
                     *next += 1;
                     let name = frame.path.display().to_string();
                     let stamp = frame.stamp + *offset;
-                    if let Some(detections) =
-                        pipeline.process_frame(&frame.image, frame.index, stamp, &name)?
+                    if let Some(processed) =
+                        processor.process(&frame.image, frame.index, stamp, &name)?
                     {
-                        return Ok(Some(HeadPoints {
-                            stamp,
-                            frame_size: Some([frame.image.width(), frame.image.height()]),
-                            points: detections.points,
-                        }));
+                        let size = [frame.image.width(), frame.image.height()];
+                        return Ok(Some(HeadPoints::from_processed(stamp, size, processed)));
                     }
                 }
                 Ok(None)
@@ -212,6 +244,7 @@ impl CameraInput {
                     stamp,
                     frame_size: None,
                     points,
+                    estimated: None,
                 }))
             }
             CameraInput::LiveDetections(live) => {
@@ -221,6 +254,7 @@ impl CameraInput {
                         stamp,
                         frame_size: None,
                         points,
+                        estimated: None,
                     }))
             }
         }

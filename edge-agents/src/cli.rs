@@ -71,6 +71,10 @@ pub struct TimingArgs {
     /// at launch. Processes given the same `--start` agree on every stamp.
     #[arg(long, value_name = "UNIX_SECONDS")]
     pub start: Option<f64>,
+    /// Read `--start` from this file (one Unix time in seconds), waiting until it exists before reading the
+    /// input: for inputs written by another process (`fusion-checker render`), which writes the file last.
+    #[arg(long, value_name = "FILE", conflicts_with = "start")]
+    pub start_file: Option<PathBuf>,
     /// Playback speed when publishing: 1 = real time, 2 = twice as fast. Ignored with `--output` alone,
     /// which writes as fast as possible.
     #[arg(long, default_value_t = 1.0)]
@@ -173,7 +177,12 @@ pub struct CameraCommand {
     /// Camera front-end configuration (TOML of `frontends::camera::CameraConfig`).
     #[arg(long, value_name = "FILE")]
     pub frontend_config: Option<PathBuf>,
-    /// Publish the raw head points (no single-view tracker, `covariances` null).
+    /// The front end frames (`--frames`, `--video`) go through: `multi-bernoulli` (people tracked on the
+    /// background-subtracted image, head tops published with covariances) or `blobs` (head points of
+    /// blobs, then the single-view tracker); default the configuration's `front_end` (`multi_bernoulli`).
+    #[arg(long, value_enum, value_name = "KIND")]
+    pub front_end: Option<FrontEndArg>,
+    /// Publish the raw head points of the `blobs` front end (no single-view tracker, `covariances` null).
     #[arg(long)]
     pub raw: bool,
     /// Tracker: white-noise acceleration of a head on the image plane, px/s².
@@ -185,6 +194,15 @@ pub struct CameraCommand {
     /// Tracker: estimates are components (labels) with at least this weight.
     #[arg(long, default_value_t = crate::camera_tracker::DEFAULT_EXTRACTION_THRESHOLD)]
     pub extraction_threshold: f64,
+}
+
+/// `--front-end`: which camera front end decoded frames go through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FrontEndArg {
+    /// The multi-Bernoulli filter on the background-subtracted image.
+    MultiBernoulli,
+    /// Blobs and their head points, then the single-view point tracker.
+    Blobs,
 }
 
 /// `edge-agent mic-pair`.

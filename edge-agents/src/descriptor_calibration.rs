@@ -7,11 +7,16 @@
 //! clutter rate differs by more than `max(0.3, 25 %)` or the detection probability by more than 0.1. The
 //! tolerance keeps the descriptor from changing at every check, since each change is a new measurement
 //! model in the filter.
+//!
+//! A front end that reports its own account of each set (`front_end_report.rs`: the camera's
+//! multi-Bernoulli image tracker) is calibrated from those reports instead of from persistence, with
+//! the same checks and tolerances.
 
 use protocol::{SensorDescriptor, SensorModel};
 use transport::LogLimiter;
 
 use crate::calibration::{Estimate, RateEstimator};
+use crate::front_end_report::{FrontEndReport, ReportWindow};
 
 /// Frames between two drift checks.
 pub const CHECK_EVERY: usize = 50;
@@ -41,6 +46,8 @@ pub enum CalibrationMode {
 /// One sensor's running calibration.
 pub struct DescriptorCalibration {
     estimator: RateEstimator,
+    /// The front end's own reports, once it sends them (they then replace the persistence estimate).
+    reports: Option<ReportWindow>,
     announced: SensorDescriptor,
     mode: CalibrationMode,
     frames: usize,
@@ -53,6 +60,7 @@ impl DescriptorCalibration {
     pub fn new(descriptor: &SensorDescriptor, mode: CalibrationMode) -> Option<Self> {
         Some(Self {
             estimator: estimator_for(&descriptor.model)?,
+            reports: None,
             announced: descriptor.clone(),
             mode,
             frames: 0,
@@ -61,17 +69,40 @@ impl DescriptorCalibration {
     }
 
     /// Takes one emitted frame; returns a descriptor to announce when the figures drifted and the mode says so.
+    /// Ignored once the front end sends its own reports.
     pub fn observe(&mut self, stamp: f64, measurements: &[Vec<f64>]) -> Option<SensorDescriptor> {
+        if self.reports.is_some() {
+            return None;
+        }
         self.estimator.observe(stamp, measurements);
         self.frames += 1;
         if !self.frames.is_multiple_of(CHECK_EVERY) {
             return None;
         }
         let estimate = self.estimator.estimate()?;
-        if !drifted(&self.announced, &estimate) {
+        self.check(&estimate)
+    }
+
+    /// Takes the front end's report of its last set; returns a descriptor to announce as
+    /// [`DescriptorCalibration::observe`] does.
+    pub fn observe_report(&mut self, report: FrontEndReport) -> Option<SensorDescriptor> {
+        let window = self.reports.get_or_insert_with(ReportWindow::default);
+        window.push(report);
+        self.frames += 1;
+        if !self.frames.is_multiple_of(CHECK_EVERY) {
             return None;
         }
-        self.report(&estimate);
+        let estimate = window.estimate()?;
+        self.check(&estimate)
+    }
+
+    /// Logs a drift of `estimate` from the announced figures and, in update mode, returns the new
+    /// descriptor.
+    fn check(&mut self, estimate: &Estimate) -> Option<SensorDescriptor> {
+        if !drifted(&self.announced, estimate) {
+            return None;
+        }
+        self.report(estimate);
         if self.mode == CalibrationMode::LogOnly {
             return None;
         }
@@ -93,7 +124,7 @@ impl DescriptorCalibration {
             frames = estimate.frames,
             action = match self.mode {
                 CalibrationMode::Update => "announcing the measured figures",
-                CalibrationMode::LogOnly => "keeping the descriptor (--keep-descriptor)",
+                CalibrationMode::LogOnly => "keeping the descriptor",
             },
             suppressed,
             "the front end's output and its descriptor disagree"

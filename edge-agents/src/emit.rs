@@ -9,6 +9,7 @@ use transport::ZenohConfig;
 use crate::descriptor::validate_descriptor;
 use crate::descriptor_calibration::{CalibrationMode, DescriptorCalibration};
 use crate::error::AgentError;
+use crate::front_end_report::FrontEndReport;
 use crate::output::ReplayWriter;
 use crate::publish::{await_subscribers, Publishing, SensorPublisher, TruthPublisher};
 use transport::LogLimiter;
@@ -181,6 +182,22 @@ impl Emitter {
         if let Some(replay) = &mut self.replay {
             replay.write(&ReplayLine::Measurements(set))?;
         }
+        if let Some(descriptor) = refined {
+            self.announce(stream, descriptor)?;
+        }
+        Ok(())
+    }
+
+    /// Takes the front end's own report of sensor `stream`'s last set (`front_end_report.rs`): the
+    /// descriptor is calibrated from these, and announced anew when it drifted.
+    pub fn take_report(&mut self, stream: usize, report: FrontEndReport) -> Result<(), AgentError> {
+        let Some(entry) = self.streams.get_mut(stream) else {
+            return Err(AgentError::Usage(format!("no sensor stream #{stream}")));
+        };
+        let refined = entry
+            .calibration
+            .as_mut()
+            .and_then(|c| c.observe_report(report));
         if let Some(descriptor) = refined {
             self.announce(stream, descriptor)?;
         }

@@ -29,6 +29,9 @@ pub struct Prepared {
     /// Whether the sets come from a real front end, whose descriptor is refined from what it emits
     /// (`descriptor_calibration.rs`); simulated sensors match their descriptors by construction.
     pub calibrate: bool,
+    /// Whether a refined descriptor is announced (`false`: the drift is only logged, as with
+    /// `--keep-descriptor`).
+    pub announce_calibration: bool,
 }
 
 impl Prepared {
@@ -46,6 +49,7 @@ impl Prepared {
             origin_stamp,
             origin_wall,
             calibrate: true,
+            announce_calibration: true,
         }
     }
 }
@@ -91,11 +95,13 @@ pub async fn launch(
         output: OutputPlan {
             replay,
             zenoh: publishing.then(|| (settings.zenoh.clone(), format)),
-            calibration: prepared.calibrate.then_some(if common.keep_descriptor {
-                CalibrationMode::LogOnly
-            } else {
-                CalibrationMode::Update
-            }),
+            calibration: prepared.calibrate.then_some(
+                if common.keep_descriptor || !prepared.announce_calibration {
+                    CalibrationMode::LogOnly
+                } else {
+                    CalibrationMode::Update
+                },
+            ),
         },
         pacer,
     };

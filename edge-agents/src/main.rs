@@ -6,6 +6,7 @@
 
 mod calibration;
 mod camera;
+mod camera_frontend;
 mod camera_input;
 mod camera_tracker;
 mod capture_clock;
@@ -16,6 +17,7 @@ mod drop_report;
 mod emit;
 mod error;
 mod ffmpeg;
+mod front_end_report;
 mod launch;
 mod lidar;
 mod lidar_live;
@@ -31,6 +33,7 @@ mod settings;
 mod sim;
 #[cfg(feature = "sound-card")]
 mod sound_card;
+mod start_file;
 mod velodyne_input;
 mod video_input;
 mod video_reader;
@@ -61,10 +64,15 @@ fn main() -> ExitCode {
 
 /// Resolves settings, prepares the subcommand's source (reading and checking every input before anything
 /// goes on the wire) and runs it.
-fn run_command(command: Command) -> Result<(), AgentError> {
-    let (common, timing) = shared_args(&command);
-    let settings = AgentSettings::resolve(common)?;
+fn run_command(mut command: Command) -> Result<(), AgentError> {
+    let settings = AgentSettings::resolve(shared_args(&command).0)?;
     init_logging(&settings.log.level);
+    let timing = timing_mut(&mut command);
+    if let Some(path) = &timing.start_file {
+        // Before the input is read: the file is written once the input is complete.
+        timing.start = Some(start_file::wait_for_start(path)?);
+    }
+    let (common, timing) = shared_args(&command);
     let prepared: Prepared = match &command {
         Command::Sim(c) => sim::prepare_sim(c)?,
         Command::Camera(c) => camera::prepare_camera(c)?,
@@ -85,6 +93,16 @@ fn shared_args(command: &Command) -> (&CommonArgs, &TimingArgs) {
         Command::Camera(c) => (&c.common, &c.timing),
         Command::MicPair(c) => (&c.common, &c.timing),
         Command::Lidar(c) => (&c.common, &c.timing),
+    }
+}
+
+/// The stamping flags of any subcommand, to fill in `--start` from `--start-file`.
+fn timing_mut(command: &mut Command) -> &mut TimingArgs {
+    match command {
+        Command::Sim(c) => &mut c.timing,
+        Command::Camera(c) => &mut c.timing,
+        Command::MicPair(c) => &mut c.timing,
+        Command::Lidar(c) => &mut c.timing,
     }
 }
 

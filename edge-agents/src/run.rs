@@ -4,6 +4,7 @@ use protocol::{SensorDescriptor, Site, TruthSet};
 
 use crate::emit::{Emitter, Frame, OutputPlan};
 use crate::error::AgentError;
+use crate::front_end_report::FrontEndReport;
 use crate::pacing::Pacer;
 use transport::Shutdown;
 
@@ -19,6 +20,16 @@ pub enum Event {
     },
     /// A truth set (simulations only).
     Truth(TruthSet),
+    /// The front end's own account of the set it just produced for sensor `stream`
+    /// (`front_end_report.rs`), for the descriptor's calibration.
+    Report {
+        /// Index of the sensor in [`RunPlan::descriptors`].
+        stream: usize,
+        /// The stamp of the set it is about.
+        stamp: f64,
+        /// The account.
+        report: FrontEndReport,
+    },
     /// The live source of sensor `stream` is down (a network camera being re-opened): the sensor is
     /// withdrawn from Zenoh (its liveliness token undeclared) until its next set declares it again.
     SourceDown {
@@ -35,7 +46,7 @@ impl Event {
         match self {
             Event::Set { frame, .. } => frame.stamp,
             Event::Truth(truth) => truth.stamp,
-            Event::SourceDown { stamp, .. } => *stamp,
+            Event::SourceDown { stamp, .. } | Event::Report { stamp, .. } => *stamp,
         }
     }
 }
@@ -130,6 +141,7 @@ async fn pump(
             Event::Set { stream, frame } => emitter.emit_set(stream, frame).await?,
             Event::Truth(truth) => emitter.emit_truth(truth).await?,
             Event::SourceDown { stream, .. } => emitter.withdraw(stream),
+            Event::Report { stream, report, .. } => emitter.take_report(stream, report)?,
         }
     }
 }

@@ -128,6 +128,7 @@ fn prepare(
     };
     Ok(Prepared {
         calibrate: false,
+        announce_calibration: false,
         source: Box::new(SimSource::new(simulation, selected, truth, duration)),
         descriptors,
         truth_site,

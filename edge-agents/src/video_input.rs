@@ -9,9 +9,10 @@
 
 use std::time::{Duration, Instant};
 
-use frontends::camera::{CameraConfig, CameraPipeline, FrameRate};
+use frontends::camera::FrameRate;
 
-use crate::camera_input::{CameraInput, HeadPoints, InputItem, OpenedInput};
+use crate::camera_frontend::FrameProcessor;
+use crate::camera_input::{CameraInput, FrontEndChoice, HeadPoints, InputItem, OpenedInput};
 use crate::capture_clock::CaptureClock;
 use crate::cli::CameraCommand;
 use crate::error::AgentError;
@@ -38,7 +39,7 @@ pub struct VideoInput {
     source: String,
     reader: VideoReader,
     /// Boxed: it holds the background model's buffers.
-    pipeline: Box<CameraPipeline>,
+    processor: Box<FrameProcessor>,
     timing: VideoTiming,
     behind: Behind,
     /// The stamp of the last frame (a source going down is stamped no earlier).
@@ -57,7 +58,7 @@ impl VideoInput {
     /// Starts ffmpeg on `--video`; a file's frame rate is `--fps` or the stream's.
     pub fn open(
         command: &CameraCommand,
-        config: &CameraConfig,
+        front_end: &FrontEndChoice,
         start: f64,
     ) -> Result<OpenedInput, AgentError> {
         let source = command.video.clone().unwrap_or_default();
@@ -93,7 +94,7 @@ impl VideoInput {
                 (VideoTiming::Live(clock), origin, origin)
             }
         };
-        let pipeline = Box::new(CameraPipeline::new(config.clone())?);
+        let processor = Box::new(front_end.processor()?);
         let reader = VideoReader::start(spec)?;
         match timing {
             VideoTiming::Rate(rate) => {
@@ -106,7 +107,7 @@ impl VideoInput {
         let input = VideoInput {
             source,
             reader,
-            pipeline,
+            processor,
             timing,
             behind: Behind {
                 since: Instant::now(),
@@ -157,17 +158,14 @@ impl VideoInput {
             };
             let name = format!("{} frame {}", self.source, frame.index);
             let index = frame.index as usize;
-            let detections = self
-                .pipeline
-                .process_frame(&frame.image, index, stamp, &name)?;
+            let processed = self.processor.process(&frame.image, index, stamp, &name)?;
             self.report(stamp);
             self.last_stamp = stamp;
-            if let Some(detections) = detections {
-                return Ok(Some(InputItem::Points(HeadPoints {
-                    stamp,
-                    frame_size: Some([frame.image.width(), frame.image.height()]),
-                    points: detections.points,
-                })));
+            if let Some(processed) = processed {
+                let size = [frame.image.width(), frame.image.height()];
+                return Ok(Some(InputItem::Points(HeadPoints::from_processed(
+                    stamp, size, processed,
+                ))));
             }
         }
     }

@@ -322,10 +322,24 @@ fn bad_and_vanishing_video_sources_end_the_run_cleanly() {
     std::thread::sleep(Duration::from_millis(200));
     for pid in ffmpegs {
         let state = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
-        assert!(state.is_empty(), "ffmpeg {pid} outlived the agent: {state}");
+        assert!(
+            has_ended(&state),
+            "ffmpeg {pid} outlived the agent: {state}"
+        );
     }
     println!(
         "unreachable network source: {} re-opens logged before SIGTERM",
         run.log.matches("opening it again").count()
     );
+}
+
+/// Whether a process whose `/proc/<pid>/stat` reads `stat` has ended: gone, or a zombie (it exited;
+/// the init process it was handed to after the agent ended has not collected its status yet, which
+/// one that does not reap, as in some containers, never does).
+fn has_ended(stat: &str) -> bool {
+    let state = stat.rsplit_once(')').map(|(_, rest)| rest.trim_start());
+    match state {
+        None => stat.is_empty(),
+        Some(rest) => rest.starts_with('Z') || rest.starts_with('X'),
+    }
 }

@@ -7,7 +7,7 @@
 //! | kind | model | measurement |
 //! |---|---|---|
 //! | `camera` | [`gmphd::PinholeCamera`] | `[u, v]` px through the 3×4 projection |
-//! | `mic_pair` | [`gmphd::MicPair`] | `[tau]`, tau = (‖x−m₂‖ − ‖x−m₁‖)/c |
+//! | `mic_pair` | [`gmphd::MicPair`] (planar at the pair's height when the pair is horizontal) | `[tau]`, tau = (‖x−m₂‖ − ‖x−m₁‖)/c |
 //! | `lidar` | [`gmphd::Lidar`] | `[range, azimuth, elevation]` in the sensor frame |
 //! | `bearing_range` | [`gmphd::BearingRange`] | `[bearing, range]` in the horizontal plane |
 //! | `position` | [`gmphd::PositionSensor`] | `[x, y, z]` world |
@@ -38,6 +38,27 @@ use gmphd::{
 use nalgebra::Matrix3x4;
 use protocol::{SensorDescriptor, SensorModel, PROTOCOL_VERSION};
 
+/// Largest height difference (m) between a pair's microphones for which the pair counts as
+/// horizontal.
+pub const HORIZONTAL_PAIR_TOLERANCE_M: f64 = 0.01;
+
+/// A microphone pair's model: Pham's planar model (sources at the pair's height) when the
+/// pair is horizontal, since such a pair does not observe height ([`MicPair::in_plane`]);
+/// the 3-D model otherwise.
+fn mic_pair(
+    pair: &protocol::MicPairModel,
+    detection: Detection,
+) -> Result<Box<dyn MeasurementModel>, gmphd::FilterError> {
+    let [m1, m2] = pair.mics;
+    let model = MicPair::new(m1, m2, pair.speed_of_sound, pair.noise_std, detection)?;
+    let model = if (m1[2] - m2[2]).abs() <= HORIZONTAL_PAIR_TOLERANCE_M {
+        model.in_plane(0.5 * (m1[2] + m2[2]))?
+    } else {
+        model
+    };
+    Ok(Box::new(model))
+}
+
 /// The measurement model a descriptor describes, with its detection probability and
 /// clutter rate.
 pub fn measurement_model(
@@ -67,14 +88,7 @@ pub fn measurement_model(
             )
             .map(|m| Box::new(m) as Box<dyn MeasurementModel>)
         }
-        SensorModel::MicPair(pair) => MicPair::new(
-            pair.mics[0],
-            pair.mics[1],
-            pair.speed_of_sound,
-            pair.noise_std,
-            detection,
-        )
-        .map(|m| Box::new(m) as Box<dyn MeasurementModel>),
+        SensorModel::MicPair(pair) => mic_pair(pair, detection),
         SensorModel::Lidar(lidar) => Lidar::new(
             lidar.position,
             lidar.orientation,

@@ -7,7 +7,9 @@
 //! simulated sensor, say) agree bit for bit without talking to each other:
 //!
 //! * truth at scenario time `t` ([`truth_objects`], [`truth_set`]) never depends on other
-//!   instants: random walks are built from hashed knots (see [`RandomWalk`]);
+//!   instants: random walks are built from hashed knots (see [`RandomWalk`]); with
+//!   `personal_space_m` it is a joint walk stepped from time 0, computed once per (scenario, seed)
+//!   ([`Scenario::position_of`]);
 //! * frame `k` of sensor `s` ([`SimulatedSensor::measurement_set`]) draws from one
 //!   ChaCha8 stream seeded by the hash of `(seed, s, k)`: detections with the model's
 //!   `p_D(x)`, Gaussian noise through the Cholesky factor of the model's `noise_cov`,
@@ -32,6 +34,7 @@
 //! | `start` | Unix time of scenario time 0; optional, default: the shared clock when the run starts |
 //! | `duration_s` | length in seconds |
 //! | `truth_rate_hz` | truth sets per second; truth instant `k` is at `k / truth_rate_hz` |
+//! | `personal_space_m` | optional: no two present targets' heads come closer horizontally; they step aside |
 //! | `[[targets]]` | `id` (unique), `appear_s` (default 0), `disappear_s` (optional), `motion` |
 //! | `motion` | `kind = "constant_velocity"`: `position` (at `appear_s`), `velocity` |
 //! | | `kind = "random_walk"`: `position` (at `appear_s`), `std` [m/√s per axis], `bounds = {min, max}`, `knot_interval_s` (default 1) |
@@ -61,6 +64,7 @@
 
 mod bounds;
 mod camera_pose;
+mod crowd;
 mod error;
 mod motion;
 pub mod pedestrians;

@@ -6,6 +6,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use protocol::Site;
 use serde::{Deserialize, Serialize};
 
+use crate::crowd::CrowdCache;
 use crate::error::ScenarioError;
 use crate::sensor_spec::{count_instants, SensorSpec};
 use crate::target::Target;
@@ -33,6 +34,14 @@ pub struct Scenario {
     /// The simulated sensors.
     #[serde(default)]
     pub sensors: Vec<SensorSpec>,
+    /// The smallest horizontal distance, in metres, between two present targets (heads): people step
+    /// aside rather than walk through one another (see [`Scenario::position_of`]). Absent: every target
+    /// follows its own motion, through the others.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub personal_space_m: Option<f64>,
+    /// The remembered joint walk when `personal_space_m` is set.
+    #[serde(skip)]
+    pub(crate) crowd: CrowdCache,
 }
 
 impl Scenario {
@@ -102,15 +111,35 @@ impl Scenario {
         count_instants(0.0, self.truth_rate_hz, duration_s)
     }
 
+    /// The position of `targets[index]` at scenario time `t` (any `t`, present or not) in run `seed`:
+    /// its own motion's, or with `personal_space_m` set that of the joint walk in which everyone keeps that
+    /// distance from the others (module `crowd`: the motions are where each intends to go).
+    ///
+    /// # Panics
+    /// If `index` is not a target's index.
+    pub fn position_of(&self, index: usize, seed: u64, t: f64) -> [f64; 3] {
+        match self.personal_space_m {
+            Some(space) => self.crowd.position(&self.targets, index, seed, space, t),
+            None => self.targets[index].position_at(seed, t),
+        }
+    }
+
+    /// The positions of the targets present at scenario time `t` of run `seed`, with their indices in
+    /// `targets`.
+    pub fn present_at(&self, seed: u64, t: f64) -> Vec<(usize, [f64; 3])> {
+        (0..self.targets.len())
+            .filter(|&i| self.targets[i].is_present(t))
+            .map(|i| (i, self.position_of(i, seed, t)))
+            .collect()
+    }
+
     /// The smallest horizontal distance between two targets present at scenario time `t` of run
-    /// `seed`, `None` with fewer than two: how close the people come (the targets' motions are
-    /// independent, so they may walk through one another).
+    /// `seed`, `None` with fewer than two: how close the people come.
     pub fn closest_pair_m(&self, seed: u64, t: f64) -> Option<f64> {
         let heads: Vec<[f64; 3]> = self
-            .targets
-            .iter()
-            .filter(|target| target.is_present(t))
-            .map(|target| target.position_at(seed, t))
+            .present_at(seed, t)
+            .into_iter()
+            .map(|(_, head)| head)
             .collect();
         let pairs = heads.iter().enumerate().flat_map(|(i, a)| {
             heads[i + 1..]

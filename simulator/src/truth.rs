@@ -8,12 +8,11 @@ use crate::scenario::Scenario;
 /// positions, in ascending id order.
 pub fn truth_objects(scenario: &Scenario, seed: u64, t: f64) -> Vec<TruthObject> {
     let mut objects: Vec<TruthObject> = scenario
-        .targets
-        .iter()
-        .filter(|target| target.is_present(t))
-        .map(|target| TruthObject {
-            id: target.id,
-            position: target.position_at(seed, t),
+        .present_at(seed, t)
+        .into_iter()
+        .map(|(index, position)| TruthObject {
+            id: scenario.targets[index].id,
+            position,
         })
         .collect();
     objects.sort_by_key(|object| object.id);

@@ -19,6 +19,9 @@ pub(crate) fn validate(scenario: &Scenario) -> Result<(), ScenarioError> {
     }
     require_positive(scenario.duration_s, "duration_s")?;
     require_positive(scenario.truth_rate_hz, "truth_rate_hz")?;
+    if let Some(space) = scenario.personal_space_m {
+        require_positive(space, "personal_space_m")?;
+    }
 
     let mut ids = HashSet::new();
     for (i, target) in scenario.targets.iter().enumerate() {

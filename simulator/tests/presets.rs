@@ -116,10 +116,9 @@ fn the_closest_pair_is_the_smallest_horizontal_distance_between_present_people()
     assert_eq!(room.closest_pair_m(1, -1.0), None, "nobody in the room yet");
     let t = 10.0;
     let heads: Vec<[f64; 3]> = room
-        .targets
-        .iter()
-        .filter(|target| target.is_present(t))
-        .map(|target| target.position_at(1, t))
+        .present_at(1, t)
+        .into_iter()
+        .map(|(_, head)| head)
         .collect();
     assert!(heads.len() >= 2);
     let closest = room.closest_pair_m(1, t).unwrap();

@@ -5,7 +5,7 @@
 #                                forged track sets on fusion/default/tracks(/json), a fake status queryable
 #   acl: client cannot publish   the checker's own identity doing the same
 # Passes when no forged message reached the sniffer, no forged status answered, the server's counters
-# (lidar's invalid and lost, the rejections) did not move, and the router logged the refusals (zenohd
+# (lidar's invalid and lost, the rejections) did not move, and the router logged the refusals (Zenoh
 # 1.10 logs every access-control decision at trace level, target
 # zenoh::net::routing::interceptor::access_control: "<zid> on Interface(eth0)+CertCommonName(default/cam1)+
 # Username(edge-agent)+Transport(Tls)+<zid> is unauthorized to Put (ingress) on <key>").

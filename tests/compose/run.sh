@@ -6,7 +6,7 @@
 #   tests/compose/run.sh              # all checks, about 6 minutes
 #   KEEP_LOGS=1 tests/compose/run.sh   # print the services' logs at the end even when all passed
 #   ONLY=secure,sites tests/compose/run.sh   # only these parts, of: plain (checks 1 to 6), secure (7: mTLS,
-#                                            # passwords, access control), standby (8), sites (9)
+#                                            # passwords, access control), standby (8), sites (9), raw (10)
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -15,7 +15,7 @@ plain=(-f "$repo/docker/docker-compose.yml")
 secure=(-f "$repo/docker/docker-compose.yml" -f "$repo/docker/docker-compose.secure.yml")
 standby=(-f "$repo/docker/docker-compose.yml" -f "$repo/docker/docker-compose.standby.yml")
 sites=(-f "$repo/docker/docker-compose.sites.yml")
-ONLY="${ONLY:-plain,secure,standby,sites}"
+ONLY="${ONLY:-plain,secure,standby,sites,raw}"
 want() { [[ ",$ONLY," == *",$1,"* ]]; }
 inspect() { python3 "$here/inspect_output.py" "$@"; }
 
@@ -147,7 +147,8 @@ check_no_restarts() { # label, services we restarted ourselves...
     state="$(docker inspect --format '{{.State.Status}} {{.RestartCount}} {{.State.StartedAt}}' "$cid")"
     read -r status restarts started <<<"$state"
     if [ "$status" != running ] || [ "$restarts" != 0 ]; then
-      echo "    $s: $status, RestartCount $restarts"
+      echo "    $s: $status, RestartCount $restarts; its errors (the log spans every run of the container):"
+      docker logs "$cid" 2>&1 | grep -iE "error|panic|fatal|killed" | tail -n 15 | sed 's/^/      /'
       ok=0
     elif [ "$started" != "${started_at[$s]}" ] && [[ " $* " != *" $s "* ]]; then
       echo "    $s: restarted by itself (StartedAt ${started_at[$s]} -> $started)"
@@ -367,12 +368,12 @@ t1="$(now)"
 if out="$(checker wait-tracks --timeout 10)"; then
   flow="$(elapsed "$t1")"
   if le "$flow" 10; then
-    pass "router restart: tracks flowing again $flow s after zenohd was back (docker restart took $restarted_in s)"
+    pass "router restart: tracks flowing again $flow s after the router was back (docker restart took $restarted_in s)"
   else
-    fail "router restart: tracks took $flow s (> 10 s) after zenohd was back"
+    fail "router restart: tracks took $flow s (> 10 s) after the router was back"
   fi
 else
-  fail "router restart: no tracks within 10 s after zenohd was back ($out)"
+  fail "router restart: no tracks within 10 s after the router was back ($out)"
 fi
 sleep 2
 all_sensors_alive "router restart"
@@ -419,7 +420,7 @@ refused() { # service, label, checker arguments...
   reason="$(grep -o -m1 -e 'Received a close message ([^)]*) in response to an [A-Za-z]*' \
     -e 'Connection refused' -e 'early eof' -e 'Unable to connect to any of' <<<"$out" || true)"
   [ "$reason" = "early eof" ] && reason="the TLS listener dropped the plain TCP connection: early eof"
-  # zenohd logs "peer sent no certificates" and ends the TLS handshake: the link never opens.
+  # The router logs "peer sent no certificates" and ends the TLS handshake: the link never opens.
   [ "$reason" = "Unable to connect to any of" ] && reason="mutual TLS: the router ended the TLS handshake, no client certificate"
   if [ "$code" != 0 ] && grep -q "opening the zenoh session failed" <<<"$out"; then
     pass "secure: $label: refused at session open (${reason:-no reason logged})"
@@ -443,7 +444,6 @@ section "secure profile: down"
 down_project
 fi
 
-# ================================================================== hot standby, many sites (then the summary, on exit)
-want standby && source "$here/standby.sh"
-want sites && source "$here/sites.sh"
+# ================================================================== hot standby, many sites, raw signals (then the summary, on exit)
+for part in standby sites raw; do want "$part" && source "$here/$part.sh"; done
 finished=1

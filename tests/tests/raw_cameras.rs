@@ -1,9 +1,10 @@
 //! The default room's two cameras rendered from the truth (`simulator::render::camera`: textured
 //! people walking and occluding one another over a textured room, soft shadows, illumination
 //! drift, sensor noise), written as PNG frame directories and run through the real
-//! `edge-agent camera --frames` (background subtraction, blobs, head points, the single-view
-//! tracker, with its default configuration), then fused by the server's replay: mean 3-D OSPA
-//! and the share of track sets with the right count against the truth, for several seeds.
+//! `edge-agent camera --frames` (its default front end: the multi-Bernoulli image tracker on the
+//! background-subtracted frames, head tops with covariances, the descriptor calibrated from the
+//! tracker's own account), then fused by the server's replay: mean 3-D OSPA and the share of track
+//! sets with the right count against the truth, for several seeds.
 
 use std::path::Path;
 use std::process::Command;
@@ -25,6 +26,7 @@ const SCORED_FROM_S: f64 = 6.0;
 const CAMERAS: [&str; 2] = ["cam1", "cam2"];
 
 /// Mean OSPA and share of right counts of one seed.
+#[derive(Default)]
 struct Figures {
     ospa: f64,
     right_count: f64,
@@ -33,6 +35,10 @@ struct Figures {
     /// many such sets there are.
     right_apart: f64,
     apart_sets: usize,
+    /// Over the cameras: the smallest share of the visible heads published and the most published
+    /// points per set near no head.
+    worst_found: f64,
+    worst_false: f64,
 }
 
 /// People farther apart than this (heads, horizontally) stand clear of one another.
@@ -94,6 +100,7 @@ fn figures(seed: u64) -> Figures {
         jobs.into_iter().map(|j| j.join().unwrap()).collect()
     });
     let mut sets = Vec::new();
+    let mut cameras = Vec::new();
     for (camera, text) in CAMERAS.iter().zip(&outputs) {
         let mut own = Vec::new();
         for line in text.lines() {
@@ -102,10 +109,22 @@ fn figures(seed: u64) -> Figures {
                 other => lines.push(other),
             }
         }
-        head_figures(&scenario, camera, seed, &own).print(camera);
+        let heads = head_figures(&scenario, camera, seed, &own);
+        heads.print(camera);
+        cameras.push(heads);
         sets.extend(own);
     }
-    fuse(&scenario, seed, lines, sets)
+    Figures {
+        worst_found: cameras
+            .iter()
+            .map(HeadFigures::found_share)
+            .fold(1.0, f64::min),
+        worst_false: cameras
+            .iter()
+            .map(HeadFigures::false_per_set)
+            .fold(0.0, f64::max),
+        ..fuse(&scenario, seed, lines, sets)
+    }
 }
 
 /// A published point within this many pixels of a projected head is that head's.
@@ -130,6 +149,16 @@ struct HeadFigures {
 }
 
 impl HeadFigures {
+    /// Share of the visible heads with a published point near them.
+    fn found_share(&self) -> f64 {
+        self.found as f64 / self.heads.max(1) as f64
+    }
+
+    /// Published points near no head, per set.
+    fn false_per_set(&self) -> f64 {
+        self.false_points as f64 / self.sets.max(1) as f64
+    }
+
     fn print(&self, camera: &str) {
         let found = self.found.max(1) as f64;
         println!(
@@ -196,10 +225,9 @@ fn head_figures(
     for set in sets.iter().filter(|s| s.stamp - START >= SCORED_FROM_S) {
         let t = set.stamp - START;
         let heads: Vec<[f64; 2]> = scenario
-            .targets
-            .iter()
-            .filter(|target| target.is_present(t))
-            .map(|target| project(target.position_at(seed, t)))
+            .present_at(seed, t)
+            .into_iter()
+            .map(|(_, head)| project(head))
             .filter(|[u, v]| (0.0..width).contains(u) && (0.0..height).contains(v))
             .collect();
         figures.add(set, &heads);
@@ -268,6 +296,8 @@ fn fuse(
     ids.sort_unstable();
     ids.dedup();
     Figures {
+        worst_found: 1.0,
+        worst_false: 0.0,
         right_apart: apart_right as f64 / apart.len().max(1) as f64,
         apart_sets: apart.len(),
         ospa: report.mean_ospa_from(from).unwrap(),
@@ -278,8 +308,7 @@ fn fuse(
 
 #[test]
 fn rendered_cameras_track_the_room_in_3d() {
-    let mut worst_ospa: f64 = 0.0;
-    let mut worst_count: f64 = 1.0;
+    let mut all = Vec::new();
     for seed in [1, 2, 3] {
         let reference = simulated_figures(seed);
         println!(
@@ -299,27 +328,55 @@ fn rendered_cameras_track_the_room_in_3d() {
             f.apart_sets,
             f.track_ids
         );
-        worst_ospa = worst_ospa.max(f.ospa);
-        worst_count = worst_count.min(f.right_count);
+        all.push(f);
     }
+    let n = all.len() as f64;
+    let mean_ospa = all.iter().map(|f| f.ospa).sum::<f64>() / n;
+    let mean_count = all.iter().map(|f| f.right_count).sum::<f64>() / n;
+    let worst_ospa = all.iter().map(|f| f.ospa).fold(0.0, f64::max);
+    let worst_count = all.iter().map(|f| f.right_count).fold(1.0, f64::min);
+    let worst_found = all.iter().map(|f| f.worst_found).fold(1.0, f64::min);
+    let worst_false = all.iter().map(|f| f.worst_false).fold(0.0, f64::max);
     println!(
-        "worst seed: mean OSPA {worst_ospa:.3} m, right count {:.1} %",
+        "over the seeds: mean OSPA {mean_ospa:.3} m, right count {:.1} %; worst seed {worst_ospa:.3} m, \
+         {:.1} %; worst camera {:.1} % of the visible heads, {worst_false:.2} points per set near no head",
+        100.0 * mean_count,
+        100.0 * worst_count,
+        100.0 * worst_found
+    );
+    // The goal, over seeds 1 to 3: mean OSPA at most 0.10 m and the right count in at least 90 % of
+    // the track sets (the cameras' simulated sets give 0.02 m and 100 %). Measured: 0.046 to 0.092 m,
+    // 92.2 to 97.3 % (0.070 m and 95.1 % over the seeds); each camera publishes 91 to 99 % of the
+    // visible heads within 3.1 to 5.0 px RMS (published σ 6.9 to 8.2 px: a head whose outline lies
+    // on another person is published with the spread of that hidden part), and at most 0.15 points
+    // per set near no head. The blobs and point tracker gave 0.29 to 0.36 m and 40 to 57 %
+    // (`--front-end blobs`). What is left is mostly brief doubled tracks where one camera's head
+    // point is off for a second or two (hair or clothes of the door's or floor's colour).
+    assert!(
+        mean_ospa <= 0.10,
+        "mean OSPA {mean_ospa:.3} m over the seeds"
+    );
+    assert!(
+        mean_count >= 0.90,
+        "right count {:.1} % over the seeds",
+        100.0 * mean_count
+    );
+    assert!(
+        worst_ospa <= 0.10,
+        "worst seed's mean OSPA {worst_ospa:.3} m"
+    );
+    assert!(
+        worst_count >= 0.85,
+        "worst seed's right count {:.1} %",
         100.0 * worst_count
     );
-    // The goal is 0.10 m and 90 %; these are floors under today's figures (seeds 1 to 3: 0.39 to
-    // 0.42 m, 44 to 50 %, through the labelled single-view tracker with the descriptors as given),
-    // against 0.02 m and 100 % for the cameras' simulated sets. Each camera publishes 65 to 78 %
-    // of the visible heads (misses mostly while a head is inside another person's silhouette,
-    // for many frames in a row), within 3 to 6 px RMS, and 0.35 to 1.3 points per set near no
-    // head; the fusion answers the long runs of misses with broken and doubled tracks. Neither
-    // the descriptor's p_D set to what is published (0.7) nor coasting the single-view tracks
-    // for 0.6 s instead of 0.2 s changes the figures by more than 0.02 m. Unlike the LIDAR's, the
-    // count is no better while everyone stands clear of everyone else (37 to 48 % of those sets;
-    // in an image two people overlap whenever one stands behind the other, however far apart).
-    assert!(worst_ospa <= 0.45, "mean OSPA {worst_ospa:.3} m");
     assert!(
-        worst_count >= 0.40,
-        "right count {:.1} %",
-        100.0 * worst_count
+        worst_found >= 0.85,
+        "a camera publishes {:.1} % of the visible heads",
+        100.0 * worst_found
+    );
+    assert!(
+        worst_false <= 0.3,
+        "a camera publishes {worst_false:.2} points per set near no head"
     );
 }

@@ -1,7 +1,8 @@
 //! Raw LIDAR end to end: scans ray-cast from the scenario's truth (`simulator::render::lidar`), the
 //! LIDAR front end as `edge-agent lidar` runs it (its default configuration, the descriptor's region
-//! filter, one set per scan), the server's offline replay, and OSPA against the truth. Also the
-//! front end alone on an outdoor scene: a level VLP-16 1.8 m up, walkers at 5–25 m and two poles.
+//! filter, one set per scan), the server's offline replay, and OSPA against the truth. Also an
+//! outdoor scene, a level VLP-16 1.8 m up with walkers at 5–25 m and two poles: the front end alone,
+//! and end to end through the real `edge-agent lidar --scans` and the server's replay.
 
 use std::time::Instant;
 
@@ -17,8 +18,8 @@ const START: f64 = 1_763_700_000.0;
 /// The room's scans used: everyone is in by 6 s.
 const FIRST_S: f64 = 6.0;
 const LAST_S: f64 = 30.0;
-/// Two heads closer than this horizontally belong to people whose bodies touch or overlap (the
-/// room's walkers do not avoid one another): seen from above they are one surface.
+/// Two heads closer than this horizontally belong to people whose bodies overlap: seen from above
+/// they are one surface. The room's people keep 0.5 m apart, so no miss should be of such a head.
 const TOUCHING_M: f64 = 0.3;
 /// People farther apart than this (heads, horizontally) stand clear of one another.
 const APART_M: f64 = 0.6;
@@ -70,10 +71,9 @@ fn sensor_up(model: &LidarModel) -> [f64; 3] {
 /// The heads of the targets present at `t`, in the sensor frame.
 fn heads(scenario: &Scenario, model: &LidarModel, seed: u64, t: f64) -> Vec<[f64; 3]> {
     scenario
-        .targets
-        .iter()
-        .filter(|target| target.is_present(t))
-        .map(|target| to_sensor(model, target.position_at(seed, t)))
+        .present_at(seed, t)
+        .into_iter()
+        .map(|(_, head)| to_sensor(model, head))
         .collect()
 }
 
@@ -326,19 +326,20 @@ fn room_tracks_from_raw_lidar_scans() {
         100.0 * sum_right / 3.0,
         100.0 * worst_right
     );
-    // The goal is OSPA ≤ 0.15 m with the count right in ≥ 90 % of the sets; today's figures are
-    // 0.145–0.218 m and 54–75 %, against 0.04–0.06 m and 94–100 % for the LIDAR's simulated sets.
-    // The front end finds 87–92 % of heads with 0.15–0.25 extra objects per scan; 57–74 % of its
-    // misses are of a head within 0.3 m of another one (the room's walkers pass through one
-    // another, and two bodies that overlap are one surface from above), so they come in runs,
-    // where the simulator's are independent, and the server answers with too few tracks (too few
-    // in 37–71 of 220 track sets, too many in 13–30). In the 55–87 of those 220 sets in which no
-    // two people are within 0.6 m of each other the count is right in 88–100 %. The descriptor's
-    // p_D (0.5–0.9), its clutter rate (0.3–3) and the extraction threshold (0.3–0.5) leave the
-    // figures within 0.01 m and 5 %. These floors catch a regression.
-    assert!(worst_ospa <= 0.25, "mean OSPA {worst_ospa:.3} m");
+    // The goal: OSPA ≤ 0.15 m with the count right in ≥ 90 % of the sets. Today 0.064–0.104 m and
+    // 87.3–100 % (92.6 % over the seeds), against 0.04–0.05 m and 100 % for the LIDAR's simulated
+    // sets: the front end finds 94–98 % of heads with 0.01–0.09 extra objects per scan (a person's
+    // arm or legs seen as a segment of their own is dropped, `frontends/src/lidar/body_parts.rs`),
+    // and the remaining errors are too few tracks while two people stand close. The goal holds over
+    // the seeds; each seed is held to its floor.
+    assert!(worst_ospa <= 0.15, "mean OSPA {worst_ospa:.3} m");
     assert!(
-        worst_right >= 0.5,
+        sum_right / 3.0 >= 0.9,
+        "count right in {:.1} % over the seeds",
+        100.0 * sum_right / 3.0
+    );
+    assert!(
+        worst_right >= 0.85,
         "count right in {:.1} %",
         100.0 * worst_right
     );
@@ -465,4 +466,129 @@ fn outdoor_walkers_are_found_at_their_centres_out_to_25_m_and_poles_are_not() {
         "far range error {worst_far_range_error:.3} m"
     );
     assert!(mean.abs() < 0.03 && mean_abs < 0.05);
+}
+
+/// Seconds of the outdoor scene run end to end.
+const OUTDOOR_S: f64 = 20.0;
+
+/// What a user of the outdoor VLP-16 would write for the server: the site's volume around the
+/// sensor; every other key keeps its default.
+const OUTDOOR_SERVER: &str = r#"
+[site]
+name = "default"
+volume_min = [-2.0, -15.0, 0.0]
+volume_max = [30.0, 15.0, 2.5]
+"#;
+
+/// The outdoor scene's scans rendered for `OUTDOOR_S` seconds of run `seed` as KITTI files,
+/// through the real `edge-agent lidar --scans` (its default front end, the descriptor it
+/// announces), and the server's replay with [`OUTDOOR_SERVER`]: mean OSPA(x, y) (c = 1 m) and
+/// the share of track sets with the right count, from 2 s on (confirmation).
+fn outdoor_tracks(seed: u64) -> (f64, f64) {
+    let mut scenario = Scenario::from_toml_str(OUTDOOR).unwrap();
+    scenario.start = Some(START);
+    scenario.duration_s = OUTDOOR_S;
+    let (_, spec) = scenario.sensor("vlp16").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let scans = dir.path().join("scans");
+    std::fs::create_dir_all(&scans).unwrap();
+    let (scene, pattern) = (
+        LidarScene::open_ground(POLES.to_vec()),
+        ScanPattern::new(BeamLayout::vlp16()),
+    );
+    for k in 0..spec.frame_count(OUTDOOR_S) {
+        let scan = render_lidar_scan(
+            &scenario,
+            "vlp16",
+            &scene,
+            &pattern,
+            seed,
+            spec.frame_time(k),
+        )
+        .unwrap();
+        let cloud = PointCloud::from_points(scan.points());
+        frontends::lidar::write_kitti_bin(scans.join(format!("{k:06}.bin")), &cloud).unwrap();
+    }
+    let descriptor = dir.path().join("vlp16.json");
+    std::fs::write(
+        &descriptor,
+        serde_json::to_vec(&spec.descriptor(&scenario.site)).unwrap(),
+    )
+    .unwrap();
+    let output = std::process::Command::new(checker::processes::binary("edge-agent").unwrap())
+        .args([
+            "lidar",
+            "--rate",
+            "10",
+            "--start",
+            &(START + spec.phase_s).to_string(),
+            "--output",
+            "-",
+        ])
+        .arg("--scans")
+        .arg(&scans)
+        .arg("--descriptor")
+        .arg(&descriptor)
+        .env("RUST_LOG", "warn")
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let mut input = output.stdout;
+    for k in 0..scenario.truth_count(OUTDOOR_S) {
+        serde_json::to_writer(
+            &mut input,
+            &ReplayLine::Truth(simulator::truth_set(&scenario, seed, START, k)),
+        )
+        .unwrap();
+        input.push(b'\n');
+    }
+    let config_file = dir.path().join("server.toml");
+    std::fs::write(&config_file, OUTDOOR_SERVER).unwrap();
+    let config = ServerConfig::load(Some(&config_file)).unwrap();
+    let report = replay(config, input.as_slice(), std::io::sink()).unwrap();
+    assert_eq!(report.bad_lines, 0);
+    horizontal_figures(&report.tracks, &report.truth, START + 2.0)
+}
+
+/// Mean OSPA(x, y) (c = 1 m, p = 1) and the share of right counts of the track sets from `from` on,
+/// each against the truth set nearest in time.
+fn horizontal_figures(tracks: &[protocol::TrackSet], truth: &[TruthSet], from: f64) -> (f64, f64) {
+    let params = gmphd::metrics::MetricParams::new(1.0, 1.0).unwrap();
+    let plane = |p: &[f64; 3]| nalgebra::DVector::from_row_slice(&p[..2]);
+    let (mut sum, mut right, mut n) = (0.0, 0usize, 0usize);
+    for set in tracks.iter().filter(|s| s.stamp >= from) {
+        let Some(nearest) = truth.iter().min_by(|a, b| {
+            (a.stamp - set.stamp)
+                .abs()
+                .total_cmp(&(b.stamp - set.stamp).abs())
+        }) else {
+            continue;
+        };
+        let x: Vec<_> = nearest.objects.iter().map(|o| plane(&o.position)).collect();
+        let y: Vec<_> = set.tracks.iter().map(|t| plane(&t.position)).collect();
+        sum += gmphd::metrics::ospa(&x, &y, params).unwrap().distance;
+        right += usize::from(x.len() == y.len());
+        n += 1;
+    }
+    (sum / n.max(1) as f64, right as f64 / n.max(1) as f64)
+}
+
+#[test]
+fn outdoor_walkers_are_tracked_out_to_25_m() {
+    for seed in [1, 2, 3] {
+        let (ospa_xy, right) = outdoor_tracks(seed);
+        println!(
+            "outdoor seed {seed}: four walkers at 5-25 m, mean OSPA(x, y) {ospa_xy:.3} m, count right {:.1} %",
+            100.0 * right
+        );
+        // Seeds 1-3: 0.044-0.046 m and 90.0-90.6 %. The wrong counts are one stretch of 1.7 s from
+        // 8 s on, in which walker 2 (13.4 m) hides walker 4 (21.8 m) on the same bearing from the
+        // sensor: no return of walker 4 exists, and its track ends and is born again.
+        assert!(ospa_xy <= 0.1, "mean OSPA(x, y) {ospa_xy:.3} m");
+        assert!(right >= 0.88, "count right in {:.1} %", 100.0 * right);
+    }
 }

@@ -56,11 +56,11 @@ fn figures(pair: &str, seed: u64) -> PairFigures {
         out.frames += 1;
         out.tdoas += frame.tdoas.len();
         let mut explained = vec![false; frame.tdoas.len()];
-        for (talker, target) in rendered.talkers.iter().zip(&scenario.targets) {
+        for (index, talker) in rendered.talkers.iter().enumerate() {
             if !talker.is_active(span.start, layout.frame_len(), rendered.sample_rate) {
                 continue;
             }
-            let mut mouth = target.position_at(seed, middle);
+            let mut mouth = scenario.position_of(index, seed, middle);
             mouth[2] -= simulator::render::mic_pair::MOUTH_BELOW_HEAD_M;
             let tau = true_tdoa(mouth, model.mics, model.speed_of_sound);
             out.active += 1;

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use checker::probe;
+use checker::raw_profile::{render_and_play, RenderRun, RunStart};
 use checker::rogue::run_rogue;
 use checker::{query_status, query_tracks, Observer};
 use clap::{Parser, Subcommand};
@@ -110,6 +111,29 @@ enum Command {
         #[arg(long, default_value_t = 10.0)]
         timeout: f64,
     },
+    /// Render every sensor's raw signal of the default room (camera frames, microphone-pair audio,
+    /// LIDAR scans) into a directory, write each sensor's `<sensor>.start` once all are complete
+    /// (`edge-agent … --start-file`), then publish the truth in real time: the raw profile's simulator.
+    Render {
+        /// Directory to render into (emptied first).
+        #[arg(long)]
+        out: PathBuf,
+        /// Seed of the scenario's random streams.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Seconds of scenario to render and play.
+        #[arg(long, default_value_t = 30.0)]
+        duration: f64,
+        /// Seconds from the end of rendering to scenario time 0 (the agents read their inputs).
+        #[arg(long, default_value_t = 3.0)]
+        lead: f64,
+        /// Scenario time 0 at this Unix time instead (e.g. for replay files made from the signals).
+        #[arg(long, conflicts_with = "lead")]
+        start: Option<f64>,
+        /// End once the signals and start files are written: publish no truth.
+        #[arg(long)]
+        render_only: bool,
+    },
     /// Follow the tracks for a while: how many sets arrived and the longest silence (JSON).
     Gaps {
         /// Seconds to listen.
@@ -192,6 +216,25 @@ async fn execute(session: &zenoh::Session, site: &Site, command: Command) -> any
         Command::Gaps { duration } => {
             let duration = Duration::from_secs_f64(duration);
             println!("{}", probe::track_gaps(session, site, duration).await?);
+            0
+        }
+        Command::Render {
+            out,
+            seed,
+            duration,
+            lead,
+            start,
+            render_only,
+        } => {
+            let run = RenderRun {
+                out,
+                site: site.clone(),
+                seed,
+                duration_s: duration,
+                start: start.map_or(RunStart::AfterRendering { lead_s: lead }, RunStart::At),
+                publish_truth: !render_only,
+            };
+            render_and_play(session, run).await?;
             0
         }
     })

@@ -100,7 +100,7 @@ async fn main() -> anyhow::Result<()> {
     let raw_dir = args.logs.join("raw");
     let raw = args
         .raw
-        .then(|| render_sensors(&scenario, args.seed, args.duration, &raw_dir))
+        .then(|| render_sensors(&scenario, args.seed, args.duration, &raw_dir, "fusion-demo"))
         .transpose()?;
     let port = free_port()?;
     let endpoint = format!("tcp/127.0.0.1:{port}");

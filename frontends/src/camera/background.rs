@@ -21,6 +21,22 @@ pub trait BackgroundModel: Send {
     /// elsewhere. `frame` and `foreground` have the size the model was built for.
     fn classify(&self, frame: &RgiImage, foreground: &mut GrayImage);
 
+    /// Like [`BackgroundModel::classify`], and also writes each pixel's foreground value into `values`
+    /// (resized to the frame): 1 for a pixel unlike the background, falling to 0 as its background
+    /// likelihood rises to `saturation` (a model without a graded likelihood gives 0 or 1).
+    fn foreground_values(
+        &self,
+        frame: &RgiImage,
+        saturation: f32,
+        values: &mut Vec<f32>,
+        foreground: &mut GrayImage,
+    ) {
+        let _ = saturation;
+        self.classify(frame, foreground);
+        values.clear();
+        values.extend(foreground.iter().map(|&m| if m == 0 { 0.0 } else { 1.0 }));
+    }
+
     /// Feeds one frame to the model. While learning every pixel is learned; afterwards only the
     /// pixels that `foreground` marks 0 (background) are, so `foreground` should be the cleaned mask
     /// (its closing fills holes in people, which must not leak into the background).

@@ -3,6 +3,7 @@
 //! Every field has a default, so a configuration file only needs the values it changes, e.g. in TOML:
 //!
 //! ```toml
+//! front_end = "multi_bernoulli"   # or "blobs"
 //! [background]
 //! model = "kde"            # or "running_stats"
 //! kde = { samples = 20, bandwidth_i = 10.0 }
@@ -11,17 +12,38 @@
 //! anchor = "top_centre"    # or "centroid", "bottom_centre"
 //! [mot_det]
 //! min_score = 0.3
+//! [multi_bernoulli]
+//! downscale = 2
+//! person = { max_height = 2.1 }
 //! ```
 
 use serde::Deserialize;
 
 use super::detections::PointAnchor;
 use super::error::{CameraError, CameraResult};
+use super::multi_bernoulli::MultiBernoulliConfig;
+
+/// How frames become a camera's published points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrontEndKind {
+    /// The multi-Bernoulli filter on the background-subtracted image (`multi_bernoulli`): people
+    /// tracked on the image itself, their head tops published with covariances. The default.
+    #[default]
+    MultiBernoulli,
+    /// Background subtraction, blobs joined into bodies and one head point per peak of a body's
+    /// top outline (`CameraPipeline`), then a point tracker.
+    Blobs,
+}
 
 /// Everything the camera front end needs to know.
 #[derive(Debug, Clone, PartialEq, Default, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CameraConfig {
+    /// Which front end turns frames into points; default `multi_bernoulli`.
+    pub front_end: FrontEndKind,
+    /// The multi-Bernoulli image tracker (front end `multi_bernoulli`).
+    pub multi_bernoulli: MultiBernoulliConfig,
     /// Background subtraction.
     pub background: BackgroundConfig,
     /// Mask clean-up and blob extraction.
@@ -308,6 +330,7 @@ impl CameraConfig {
                 ),
             ));
         }
+        self.multi_bernoulli.validate()?;
         if self.mot_det.min_score.is_nan() {
             return Err(invalid("mot_det.min_score", "must be a number".into()));
         }

@@ -71,6 +71,18 @@ impl KdeBackground {
         k(0) * k(1) * k(2)
     }
 
+    /// The kernel sum of `x` over `samples`, stopped once it reaches `enough`.
+    fn kernel_sum_up_to(&self, x: Rgi, samples: &[Rgi], enough: f32) -> f32 {
+        let mut sum = 0.0;
+        for &sample in samples {
+            sum += self.kernel_product(x, sample);
+            if sum >= enough {
+                break;
+            }
+        }
+        sum
+    }
+
     fn is_background(&self, x: Rgi, samples: &[Rgi]) -> bool {
         let mut sum = 0.0;
         for &sample in samples {
@@ -110,6 +122,32 @@ impl BackgroundModel for KdeBackground {
             } else {
                 FOREGROUND
             };
+        }
+    }
+
+    fn foreground_values(
+        &self,
+        frame: &RgiImage,
+        saturation: f32,
+        values: &mut Vec<f32>,
+        foreground: &mut GrayImage,
+    ) {
+        debug_assert_eq!(frame.pixels().len(), self.pixel_count);
+        let n = self.capacity as f32;
+        // The sum can stop once it says "background" on both counts.
+        let enough = self.threshold_sum.max(saturation * n);
+        values.clear();
+        values.resize(self.pixel_count, 0.0);
+        let stacks = self.samples.chunks_exact(self.capacity);
+        let pixels = foreground.iter_mut().zip(values.iter_mut());
+        for (((mask, value), &x), stack) in pixels.zip(frame.pixels()).zip(stacks) {
+            let sum = self.kernel_sum_up_to(x, stack, enough);
+            *mask = if sum >= self.threshold_sum {
+                0
+            } else {
+                FOREGROUND
+            };
+            *value = 1.0 - (sum / (saturation * n)).min(1.0);
         }
     }
 

@@ -1,6 +1,6 @@
 //! Camera front end: image frames to per-frame image-plane point measurements.
 //!
-//! Two sources of measurements:
+//! Three sources of measurements:
 //! - Background subtraction (`CameraPipeline`): each frame is converted to rgI chromaticity, compared
 //!   with a per-pixel background model (kernel density over recent background samples as in
 //!   Hoseinnezhad, Vo and Vu, or running mean/variance), the foreground mask is opened and closed,
@@ -8,8 +8,10 @@
 //!   each body gives its head points (the peaks of its top outline, one per person it holds), the
 //!   measurement of Pham's single-view stage (thesis ch. 7), or its centroid or feet.
 //! - Precomputed detections (`read_mot_detections`): a MOT Challenge `det.txt`, one point per box.
+//! - The multi-Bernoulli image tracker (`multi_bernoulli`, Hoseinnezhad, Vo and Vu): people tracked
+//!   directly on the background-subtracted image, no blobs; it yields head tops with covariances.
 //!
-//! Both yield `Vec<FrameDetections>`, one point set per frame, ready for a 2-D GM-PHD update
+//! The first two yield `Vec<FrameDetections>`, one point set per frame, ready for a 2-D GM-PHD update
 //! (`FrameDetections::measurement_vectors`).
 
 #![warn(missing_docs)]
@@ -25,6 +27,7 @@ mod frames;
 mod kde_background;
 mod morphology;
 mod mot_det;
+pub mod multi_bernoulli;
 mod pipeline;
 mod running_background;
 mod shadows;
@@ -34,8 +37,8 @@ pub use background::{new_background_model, BackgroundModel, FOREGROUND};
 pub use blobs::{Blob, BlobDetector};
 pub use chromaticity::{rgb_to_rgi, Rgi, RgiImage, RGI_SCALE};
 pub use config::{
-    BackgroundConfig, BackgroundModelKind, BlobConfig, CameraConfig, KdeConfig, MotDetConfig,
-    RunningStatsConfig, ShadowConfig,
+    BackgroundConfig, BackgroundModelKind, BlobConfig, CameraConfig, FrontEndKind, KdeConfig,
+    MotDetConfig, RunningStatsConfig, ShadowConfig,
 };
 pub use detections::{FrameDetections, PointAnchor};
 pub use error::{CameraError, CameraResult};

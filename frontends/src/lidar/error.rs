@@ -264,6 +264,15 @@ pub enum LidarConfigError {
         value: f64,
     },
 
+    /// A length that must be a finite number of at least 0 is not.
+    #[error("{name} must be a finite number ≥ 0, got {value}")]
+    Negative {
+        /// The configuration key.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+
     /// A count that must be at least some minimum is below it.
     #[error("{name} must be at least {minimum}, got {value}")]
     TooSmall {

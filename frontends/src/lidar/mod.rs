@@ -29,6 +29,7 @@
 //! assert!((range - 8.14).abs() < 0.01 && azimuth > 0.0 && elevation > 0.0);
 //! ```
 
+mod body_parts;
 mod cloud_file;
 mod clustering;
 mod config;

@@ -40,6 +40,8 @@ pub enum Estimate {
 /// max_top_height = 2.2      # metres above the ground: taller ones are poles, walls, trees
 /// split_width = 0.6         # metres: wider segments may be several people side by side
 /// person_spacing = 0.3      # metres: two head tops at least this far apart are two people
+/// part_reach = 0.45         # metres: a lower object nearer a taller one than this is part of its person…
+/// part_drop = 0.3           # metres: …when its top is at least this much lower
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -68,6 +70,13 @@ pub struct ObjectConfig {
     /// Head tops at least this far apart horizontally (metres) belong to different people. 0.3 m: closer than
     /// two people's heads can be, farther than one head's points.
     pub person_spacing: f64,
+    /// An object whose reported point lies within this horizontal distance (metres) of a taller object's,
+    /// and whose top is at least `part_drop` lower, is part of that person (an arm, the legs, a shoulder
+    /// seen as its own segment) and is not reported. 0.45 m: about the distance between the heads of two
+    /// people shoulder to shoulder. 0 turns it off.
+    pub part_reach: f64,
+    /// See `part_reach`. 0.3 m: more than two standing people's heights usually differ at that distance.
+    pub part_drop: f64,
 }
 
 impl Default for ObjectConfig {
@@ -81,6 +90,8 @@ impl Default for ObjectConfig {
             max_top_height: 2.2,
             split_width: 0.6,
             person_spacing: 0.3,
+            part_reach: 0.45,
+            part_drop: 0.3,
         }
     }
 }
@@ -94,6 +105,7 @@ impl ObjectConfig {
             min_top_height: f64::NEG_INFINITY,
             max_top_height: f64::INFINITY,
             split_width: f64::INFINITY,
+            part_reach: 0.0,
             ..Self::default()
         }
     }
@@ -114,6 +126,14 @@ impl ObjectConfig {
                 name: "objects.person_spacing",
                 value: self.person_spacing,
             });
+        }
+        for (name, value) in [
+            ("objects.part_reach", self.part_reach),
+            ("objects.part_drop", self.part_drop),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(LidarConfigError::Negative { name, value });
+            }
         }
         if self.max_width.is_nan() || self.max_width <= 0.0 {
             return Err(LidarConfigError::NotPositive {

@@ -1,6 +1,8 @@
 //! The LIDAR pipeline: point cloud → ground removal → segments (range image, or Euclidean clusters) →
-//! person-sized objects → their centres as measurements.
+//! person-sized objects, less the parts of a person seen apart (`body_parts.rs`) → their centres as
+//! measurements.
 
+use super::body_parts::drop_body_parts;
 use super::clustering::{euclidean_clusters, PointCluster};
 use super::config::{LidarConfig, SegmentationMethod};
 use super::error::LidarConfigError;
@@ -79,6 +81,7 @@ impl LidarPipeline {
                 detect_object(&points, (k, indices), &frame, &self.config.objects)
             })
             .collect();
+        let objects = drop_body_parts(objects, &frame, &self.config.objects);
         let clusters = segments
             .into_iter()
             .map(|indices| PointCluster {

@@ -15,6 +15,16 @@ use crate::error::{invalid, FilterError};
 /// The measurement region is [−d/c, d/c] with d the microphone spacing; every
 /// source is audible with the pair's detection probability (the direction is
 /// what a pair measures, so there is no range limit).
+///
+/// [`MicPair::in_plane`] makes it Pham's planar model (§5.5, speakers and
+/// microphones in one horizontal plane): the source is taken at a fixed height
+/// and the state's own height is not used. Why: a horizontal pair's TDOA depends
+/// on the source's height only through the square of its distance from the pair's
+/// plane (the derivative vanishes in the plane), so pairs at one height do not
+/// observe it; a 3-D state's height then stays where its birth put it, and through
+/// the hyperboloid's curvature a wrong height moves the horizontal estimate (a
+/// source taken 0.4 m below the pair while it is 0.1 m above is put 0.2 m closer
+/// to the pair's axis at 0.5 m from it).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MicPair {
     m1: Vector3<f64>,
@@ -22,6 +32,8 @@ pub struct MicPair {
     speed_of_sound: f64,
     noise_cov: DMatrix<f64>,
     detection: Detection,
+    /// The height the source is taken at (planar model), or `None` for the state's own.
+    source_height: Option<f64>,
 }
 
 impl MicPair {
@@ -47,7 +59,26 @@ impl MicPair {
             speed_of_sound: positive(speed_of_sound, "speed of sound")?,
             noise_cov: diagonal_noise(&[noise_std])?,
             detection,
+            source_height: None,
         })
+    }
+
+    /// The planar model: sources are taken at height `z` (m, finite) whatever the
+    /// state's height (see the type's documentation).
+    pub fn in_plane(mut self, z: f64) -> Result<Self, FilterError> {
+        if !z.is_finite() {
+            return Err(invalid(
+                "microphone pair",
+                "the source height is not finite",
+            ));
+        }
+        self.source_height = Some(z);
+        Ok(self)
+    }
+
+    /// The height sources are taken at, for the planar model.
+    pub fn source_height(&self) -> Option<f64> {
+        self.source_height
     }
 
     /// Largest possible |tau|: spacing / speed of sound.
@@ -62,6 +93,10 @@ impl MeasurementModel for MicPair {
     }
 
     fn measure_into(&self, p: &Vector3<f64>, out: &mut [f64]) {
+        let p = match self.source_height {
+            Some(z) => Vector3::new(p.x, p.y, z),
+            None => *p,
+        };
         out[0] = ((p - self.m2).norm() - (p - self.m1).norm()) / self.speed_of_sound;
     }
 
@@ -121,5 +156,21 @@ mod tests {
             Detection::new(0.7, 1.0).unwrap()
         )
         .is_err());
+    }
+
+    #[test]
+    fn the_planar_model_ignores_the_state_height() {
+        let detection = Detection::new(0.7, 1.0).unwrap();
+        let pair = MicPair::new([1.25, 0.0, 1.5], [1.75, 0.0, 1.5], 343.0, 6e-5, detection)
+            .unwrap()
+            .in_plane(1.5)
+            .unwrap();
+        let at = |z: f64| pair.measure(&Vector3::new(2.0, 0.5, z))[0];
+        assert_eq!(at(0.3), at(1.5));
+        let spatial =
+            MicPair::new([1.25, 0.0, 1.5], [1.75, 0.0, 1.5], 343.0, 6e-5, detection).unwrap();
+        assert!((spatial.measure(&Vector3::new(2.0, 0.5, 1.5))[0] - at(0.3)).abs() < 1e-15);
+        assert!(spatial.measure(&Vector3::new(2.0, 0.5, 0.3))[0] != at(0.3));
+        assert!(spatial.clone().in_plane(f64::NAN).is_err());
     }
 }

@@ -54,6 +54,8 @@ pub fn dense() -> Scenario {
         truth_rate_hz: 30.0,
         targets: (0..TARGETS).map(target).collect(),
         sensors,
+        personal_space_m: None,
+        crowd: Default::default(),
     }
 }
 

@@ -23,6 +23,9 @@ pub const ROOM_HEIGHT: f64 = 2.5;
 
 /// Where both cameras point: the middle of the floor, a little below head height.
 const LOOK_AT: [f64; 3] = [1.5, 1.0, 1.2];
+/// How close two people's heads come, m: about a shoulder breadth (people stand shoulder to shoulder
+/// at most; walking side by side they keep some 0.7 m).
+const PERSONAL_SPACE_M: f64 = 0.5;
 /// An audio frame of 256 ms (4096 samples at 16 kHz), as in Pham ch. 5.6.
 const AUDIO_FRAME_S: f64 = 0.256;
 
@@ -30,7 +33,8 @@ const AUDIO_FRAME_S: f64 = 0.256;
 /// high, 60 s long, truth at 25 Hz.
 ///
 /// * People: #1 walks a loop of waypoints from 0.5 s, #2 is a random walk from 2 s,
-///   #3 walks waypoints from 4.5 s and leaves at 52 s; heads at 1.6–1.8 m.
+///   #3 walks waypoints from 4.5 s and leaves at 52 s; heads at 1.6–1.8 m. Those are where they
+///   mean to go: they step aside rather than come within 0.5 m of one another (`personal_space_m`).
 /// * `cam1`, `cam2`: 640×480, f = 500 px, in opposite top corners looking at the room
 ///   centre; noise 3 px, p_D 0.95, clutter 2, 25 Hz, half a frame apart.
 /// * `mics_s`, `mics_e`, `mics_n`, `mics_w`: one pair on each wall, 0.5 m baseline at
@@ -45,6 +49,8 @@ pub fn default_room() -> Scenario {
         truth_rate_hz: 25.0,
         targets: people(),
         sensors: [cameras(), microphone_pairs(), vec![ceiling_lidar()]].concat(),
+        personal_space_m: Some(PERSONAL_SPACE_M),
+        crowd: Default::default(),
     }
 }
 

@@ -221,13 +221,11 @@ fn sensor_rotation(model: &LidarModel) -> Result<UnitQuaternion<f64>, ScenarioEr
 fn bodies_at(scenario: &Scenario, seed: u64, t: f64, floor_z: f64) -> Vec<Body> {
     const DT: f64 = 0.05;
     scenario
-        .targets
-        .iter()
-        .filter(|target| target.is_present(t))
-        .map(|target| {
-            let top = target.position_at(seed, t);
-            let before = target.position_at(seed, t - DT);
-            let after = target.position_at(seed, t + DT);
+        .present_at(seed, t)
+        .into_iter()
+        .map(|(index, top)| {
+            let before = scenario.position_of(index, seed, t - DT);
+            let after = scenario.position_of(index, seed, t + DT);
             let (dx, dy) = (after[0] - before[0], after[1] - before[1]);
             let length = dx.hypot(dy);
             let heading = if length > 1e-6 {

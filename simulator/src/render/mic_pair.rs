@@ -213,8 +213,9 @@ pub fn render_mic_pair(
             mic,
             speed_of_sound: model.speed_of_sound,
         };
-        for (talker, target) in talkers.iter().zip(&scenario.targets) {
-            add_reverberant(out, talker, target, &listener, seed);
+        for (index, talker) in talkers.iter().enumerate() {
+            let head_at = |t: f64| scenario.position_of(index, seed, t);
+            add_reverberant(out, talker, &head_at, &listener);
         }
     }
     let mut noise_rng = StreamKey::new(seed, "mic noise").with_text(sensor).rng();
@@ -285,14 +286,13 @@ impl Listener<'_> {
 fn add_reverberant(
     out: &mut [f64],
     talker: &Talker,
-    target: &Target,
+    head_at: &dyn Fn(f64) -> [f64; 3],
     listener: &Listener,
-    seed: u64,
 ) {
     let room = listener.room;
     let rate = f64::from(room.sample_rate);
     let mouth_at = |t: f64| {
-        let mut mouth = target.position_at(seed, t);
+        let mut mouth = head_at(t);
         mouth[2] -= MOUTH_BELOW_HEAD_M;
         room.contains(mouth).then_some(mouth)
     };
