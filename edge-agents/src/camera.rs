@@ -109,7 +109,7 @@ fn single_view_tracker(
     camera: &CameraModel,
     descriptor: &SensorDescriptor,
 ) -> Result<SingleViewTracker, AgentError> {
-    Ok(SingleViewTracker::new(
+    SingleViewTracker::new(
         camera,
         descriptor.detection_probability,
         descriptor.clutter_rate,
@@ -118,7 +118,7 @@ fn single_view_tracker(
             birth_rate: command.birth_rate,
             extraction_threshold: command.extraction_threshold,
         },
-    )?)
+    )
 }
 
 /// Whether the raw points go through the single-view point tracker.

@@ -246,11 +246,14 @@ impl Default for MotDetConfig {
     }
 }
 
-fn invalid(field: &'static str, problem: String) -> CameraError {
+/// A configuration error naming the field (shared with the image tracker's configuration).
+pub(super) fn invalid(field: &'static str, problem: String) -> CameraError {
     CameraError::InvalidConfig { field, problem }
 }
 
-fn require_positive(field: &'static str, value: f32) -> CameraResult<()> {
+/// Refuses a value that is not finite and > 0.
+pub(super) fn require_positive(field: &'static str, value: impl Into<f64>) -> CameraResult<()> {
+    let value: f64 = value.into();
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {

@@ -5,7 +5,8 @@
 
 use serde::Deserialize;
 
-use crate::camera::error::{CameraError, CameraResult};
+use crate::camera::config::{invalid, require_positive};
+use crate::camera::error::CameraResult;
 
 /// The shape of a standing person, in metres: what a hypothesised person covers in the image.
 /// Proportions are of the person's height (anthropometric averages), breadths are absolute.
@@ -150,21 +151,6 @@ impl Default for MultiBernoulliConfig {
     }
 }
 
-fn invalid(field: &'static str, problem: String) -> CameraError {
-    CameraError::InvalidConfig { field, problem }
-}
-
-fn positive(field: &'static str, value: f64) -> CameraResult<()> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(
-            field,
-            format!("must be finite and > 0, got {value}"),
-        ))
-    }
-}
-
 fn probability(field: &'static str, value: f64) -> CameraResult<()> {
     if value > 0.0 && value < 1.0 {
         Ok(())
@@ -176,7 +162,7 @@ fn probability(field: &'static str, value: f64) -> CameraResult<()> {
 impl PersonShape {
     /// Checks every value's range.
     pub fn validate(&self) -> CameraResult<()> {
-        positive("multi_bernoulli.person.min_height", self.min_height)?;
+        require_positive("multi_bernoulli.person.min_height", self.min_height)?;
         if !(self.max_height.is_finite() && self.max_height >= self.min_height) {
             return Err(invalid(
                 "multi_bernoulli.person.max_height",
@@ -202,7 +188,7 @@ impl PersonShape {
                 self.neck_half_width,
             ),
         ] {
-            positive(field, value)?;
+            require_positive(field, value)?;
         }
         let (hip, shoulder, chin) = (self.hip_share, self.shoulder_share, 1.0 - self.head_share);
         if !(0.0 < hip && hip < shoulder && shoulder < chin && chin < 1.0) {
@@ -239,21 +225,21 @@ impl MultiBernoulliConfig {
             "multi_bernoulli.foreground_threshold",
             f64::from(self.foreground_threshold),
         )?;
-        positive(
+        require_positive(
             "multi_bernoulli.pixels_per_observation",
             f64::from(self.pixels_per_observation),
         )?;
-        positive("multi_bernoulli.head_weight", f64::from(self.head_weight))?;
+        require_positive("multi_bernoulli.head_weight", f64::from(self.head_weight))?;
         if !(self.survival_per_second > 0.0 && self.survival_per_second <= 1.0) {
             return Err(invalid(
                 "multi_bernoulli.survival_per_second",
                 format!("must be in (0, 1], got {}", self.survival_per_second),
             ));
         }
-        positive("multi_bernoulli.accel_noise", self.accel_noise)?;
-        positive("multi_bernoulli.height_noise", self.height_noise)?;
+        require_positive("multi_bernoulli.accel_noise", self.accel_noise)?;
+        require_positive("multi_bernoulli.height_noise", self.height_noise)?;
         probability("multi_bernoulli.birth_existence", self.birth_existence)?;
-        positive(
+        require_positive(
             "multi_bernoulli.birth_velocity_std",
             self.birth_velocity_std,
         )?;
@@ -271,8 +257,8 @@ impl MultiBernoulliConfig {
                 ),
             ));
         }
-        positive("multi_bernoulli.merge_distance", self.merge_distance)?;
-        positive("multi_bernoulli.birth_min_share", self.birth_min_share)?;
+        require_positive("multi_bernoulli.merge_distance", self.merge_distance)?;
+        require_positive("multi_bernoulli.birth_min_share", self.birth_min_share)?;
         if !(0.0..=1.0).contains(&self.min_visible_head) {
             return Err(invalid(
                 "multi_bernoulli.min_visible_head",
