@@ -43,6 +43,18 @@ pub enum RunStart {
 /// Renders, writes the start files, then (unless told not to) publishes the truth on `session`
 /// until the run's end.
 pub async fn render_and_play(session: &zenoh::Session, run: RenderRun) -> anyhow::Result<()> {
+    let start = render_for_agents(&run).await?;
+    if !run.publish_truth {
+        return Ok(());
+    }
+    let mut scenario = simulator::default_room();
+    scenario.site = run.site.clone();
+    publish_truth_on(session, &scenario, run.seed, start, run.duration_s).await
+}
+
+/// Renders every sensor's signal and writes the start files (no network): scenario time 0 as a Unix
+/// time.
+pub async fn render_for_agents(run: &RenderRun) -> anyhow::Result<f64> {
     anyhow::ensure!(
         run.duration_s.is_finite() && run.duration_s > 0.0,
         "--duration {}: must be a positive number of seconds",
@@ -61,9 +73,9 @@ pub async fn render_and_play(session: &zenoh::Session, run: RenderRun) -> anyhow
     let mut scenario = simulator::default_room();
     scenario.site = run.site.clone();
     let sensors = {
-        let (scenario, out) = (scenario.clone(), run.out.clone());
+        let (out, seed, duration_s) = (run.out.clone(), run.seed, run.duration_s);
         tokio::task::spawn_blocking(move || {
-            render_sensors(&scenario, run.seed, run.duration_s, &out, "fusion-checker")
+            render_sensors(&scenario, seed, duration_s, &out, "fusion-checker")
         })
         .await??
     };
@@ -86,8 +98,5 @@ pub async fn render_and_play(session: &zenoh::Session, run: RenderRun) -> anyhow
             ""
         }
     );
-    if !run.publish_truth {
-        return Ok(());
-    }
-    publish_truth_on(session, &scenario, run.seed, start, run.duration_s).await
+    Ok(start)
 }

@@ -20,7 +20,8 @@ pub struct Cli {
 pub enum Command {
     /// Simulate the sensors of a scenario (and optionally its truth) in real time or as fast as possible.
     Sim(SimCommand),
-    /// A camera: image frames or MOT detections → single-view 2-D GM-PHD tracker → pixel estimates.
+    /// A camera: frames or a video through the multi-Bernoulli image tracker (or blobs), or MOT detections
+    /// through the single-view tracker → pixel estimates.
     Camera(CameraCommand),
     /// A microphone pair: stereo audio → GCC-PHAT time differences of arrival.
     #[command(name = "mic-pair")]
@@ -144,11 +145,11 @@ pub struct CameraCommand {
     /// The camera's SensorDescriptor (TOML or JSON by extension; `site`/`version` may be omitted).
     #[arg(long, value_name = "FILE")]
     pub descriptor: Option<PathBuf>,
-    /// Directory of PNG/JPEG frames (sorted by name) run through background subtraction and blobs.
+    /// Directory of PNG/JPEG frames (sorted by name) run through the camera front end (`--front-end`).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["detections", "video"])]
     pub frames: Option<PathBuf>,
     /// A video source decoded by the `ffmpeg` executable: a file, an `rtsp://`/`http://` URL, `/dev/videoN`,
-    /// or `-` for a stream on stdin; its frames go through background subtraction like `--frames`.
+    /// or `-` for a stream on stdin; its frames go through the camera front end like `--frames`.
     #[arg(long, value_name = "SRC", conflicts_with = "detections")]
     pub video: Option<String>,
     /// Extra ffmpeg input options for `--video`, split on spaces and placed before `-i`, e.g.

@@ -3,12 +3,11 @@
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
-use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
+use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig};
 use crate::birth::BirthModel;
-use crate::error::{invalid, FilterError};
+use crate::error::FilterError;
 use crate::gating::Gating;
 use crate::gaussian::{GaussianMixture, LabelSource};
-use crate::linalg::{check_finite_vector, check_spd};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
 use crate::newborn::separate_newborn_children;
@@ -17,6 +16,10 @@ use crate::reduce::{Ancestry, Reducer};
 use crate::spawn::SpawnModel;
 use crate::ukf::UnscentedParams;
 use crate::update::Updater;
+
+mod checkpoint;
+
+pub use checkpoint::FilterState;
 
 /// Settings of the recursion that are not models.
 ///
@@ -30,29 +33,6 @@ pub struct FilterConfig {
     pub survival: Survival,
     /// Unscented-transform parameters for nonlinear sensors.
     pub unscented: UnscentedParams,
-}
-
-/// What a checkpoint holds: enough to resume the filter exactly.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FilterState {
-    /// The current intensity.
-    pub intensity: GaussianMixture,
-    /// Time stamp (s) the intensity refers to.
-    pub time: f64,
-    /// The next label the filter will hand out.
-    pub next_label: u64,
-    /// Measurement-driven births waiting for the next prediction (empty without
-    /// adaptive birth; absent in checkpoints of older versions).
-    #[serde(default)]
-    pub pending_births: Vec<BirthCandidate>,
-    /// Seconds of static birth not yet added (see [`GmPhdFilter::with_birth_interval`];
-    /// absent in checkpoints of older versions).
-    #[serde(default)]
-    pub birth_owed_s: f64,
-    /// Labels handed out by the latest prediction, whose children a further update at the
-    /// same time stamp separates (module `newborn`; absent in older checkpoints).
-    #[serde(default)]
-    pub newborn_labels: Range<u64>,
 }
 
 /// A GM-PHD filter over one state space, fed by any number of sensors.
@@ -382,77 +362,5 @@ impl GmPhdFilter {
     /// Expected number of objects: the total weight of the intensity.
     pub fn expected_count(&self) -> f64 {
         self.intensity.total_weight()
-    }
-
-    /// A checkpoint of the filter.
-    pub fn state(&self) -> FilterState {
-        FilterState {
-            intensity: self.intensity.clone(),
-            time: self.time,
-            next_label: self.labels.peek(),
-            pending_births: self
-                .adaptive_birth
-                .as_ref()
-                .map(|adaptive| adaptive.pending().to_vec())
-                .unwrap_or_default(),
-            birth_owed_s: self.birth_owed_s,
-            newborn_labels: self.newborn.clone(),
-        }
-    }
-
-    /// Resumes from a checkpoint taken with [`GmPhdFilter::state`] (models and
-    /// configuration are not part of it). The label source continues after both
-    /// the saved next label and every label in the intensity. Pending births are
-    /// restored when adaptive birth is enabled and ignored otherwise.
-    pub fn restore(&mut self, state: FilterState) -> Result<(), FilterError> {
-        if !state.time.is_finite() {
-            return Err(FilterError::NonFinite {
-                what: "checkpoint time",
-            });
-        }
-        self.validate_mixture(&state.intensity)?;
-        if let Some(adaptive) = &mut self.adaptive_birth {
-            adaptive.restore(state.pending_births, self.motion.state_dim())?;
-        }
-        self.labels = LabelSource::starting_at(state.next_label);
-        self.skip_used_labels(&state.intensity);
-        self.intensity = state.intensity;
-        self.time = state.time;
-        self.newborn = state.newborn_labels;
-        self.birth_owed_s = if state.birth_owed_s.is_finite() {
-            state.birth_owed_s.max(0.0)
-        } else {
-            0.0
-        };
-        Ok(())
-    }
-
-    fn validate_mixture(&self, mixture: &GaussianMixture) -> Result<(), FilterError> {
-        let n = self.motion.state_dim();
-        for component in mixture.iter() {
-            if !(component.weight >= 0.0 && component.weight.is_finite()) {
-                return Err(invalid(
-                    "component weight",
-                    format!("{} is not a finite number >= 0", component.weight),
-                ));
-            }
-            if component.dim() != n {
-                return Err(FilterError::DimensionMismatch {
-                    what: "component mean",
-                    expected: n,
-                    found: component.dim(),
-                });
-            }
-            check_finite_vector(&component.mean, "component mean")?;
-            check_spd(&component.cov, n, "component covariance")?;
-        }
-        Ok(())
-    }
-
-    fn skip_used_labels(&mut self, mixture: &GaussianMixture) {
-        let highest = mixture.iter().map(|c| c.label.0).max().unwrap_or(0);
-        if highest >= self.labels.peek() {
-            self.labels = LabelSource::starting_at(highest + 1);
-        }
     }
 }

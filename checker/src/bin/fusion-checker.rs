@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use checker::probe;
-use checker::raw_profile::{render_and_play, RenderRun, RunStart};
+use checker::raw_profile::{render_and_play, render_for_agents, RenderRun, RunStart};
 use checker::rogue::run_rogue;
 use checker::{query_status, query_tracks, Observer};
 use clap::{Parser, Subcommand};
@@ -152,6 +152,11 @@ async fn main() -> anyhow::Result<()> {
         .init();
     let cli = Cli::parse();
     let site = Site::new(&cli.site)?;
+    if let Some(run) = render_run(&cli.command, &site).filter(|run| !run.publish_truth) {
+        // Rendering alone needs no router.
+        render_for_agents(&run).await?;
+        return Ok(());
+    }
     let session = zenoh_config(&cli)?.open().await?;
     let code = execute(&session, &site, cli.command).await?;
     let _ = session.close().await;
@@ -218,25 +223,34 @@ async fn execute(session: &zenoh::Session, site: &Site, command: Command) -> any
             println!("{}", probe::track_gaps(session, site, duration).await?);
             0
         }
-        Command::Render {
-            out,
-            seed,
-            duration,
-            lead,
-            start,
-            render_only,
-        } => {
-            let run = RenderRun {
-                out,
-                site: site.clone(),
-                seed,
-                duration_s: duration,
-                start: start.map_or(RunStart::AfterRendering { lead_s: lead }, RunStart::At),
-                publish_truth: !render_only,
-            };
+        command @ Command::Render { .. } => {
+            let run = render_run(&command, site).expect("a render command");
             render_and_play(session, run).await?;
             0
         }
+    })
+}
+
+/// What `render` is to do, or `None` for another command.
+fn render_run(command: &Command, site: &Site) -> Option<RenderRun> {
+    let Command::Render {
+        out,
+        seed,
+        duration,
+        lead,
+        start,
+        render_only,
+    } = command
+    else {
+        return None;
+    };
+    Some(RenderRun {
+        out: out.clone(),
+        site: site.clone(),
+        seed: *seed,
+        duration_s: *duration,
+        start: start.map_or(RunStart::AfterRendering { lead_s: *lead }, RunStart::At),
+        publish_truth: !render_only,
     })
 }
 
