@@ -7,6 +7,7 @@ pub mod probe;
 pub mod processes;
 pub mod raw_inputs;
 pub mod raw_profile;
+pub mod replay_file;
 pub mod rogue;
 
 use std::collections::BTreeMap;

@@ -10,6 +10,7 @@ use std::path::Path;
 
 use checker::processes::binary;
 use checker::raw_inputs::{agent_output_command, render_sensors, RawSensor};
+use checker::replay_file::replay_file;
 use fusion_server::config::ServerConfig;
 use fusion_server::replay::replay;
 use protocol::ReplayLine;
@@ -44,30 +45,10 @@ fn agent_lines(sensor: &RawSensor, dir: &Path) -> Vec<ReplayLine> {
         .collect()
 }
 
-/// Every agent's lines and the truth in one replay file, in stamp order. Within one agent the
-/// lines keep their order: a descriptor it announces goes before the set that follows it.
+/// Every agent's lines and the truth in one replay file, in stamp order.
 fn replay_input(scenario: &Scenario, seed: u64, agents: Vec<Vec<ReplayLine>>) -> Vec<u8> {
-    let mut keyed: Vec<(f64, usize, ReplayLine)> = (0..scenario.truth_count(DURATION_S))
-        .map(|k| truth_set(scenario, seed, START, k))
-        .map(|truth| (truth.stamp, 0, ReplayLine::Truth(truth)))
-        .collect();
-    for lines in agents {
-        // Walked backwards, so that each line is keyed by the stamp of the set at or after it.
-        let mut next_stamp = f64::INFINITY;
-        for (position, line) in lines.into_iter().enumerate().rev() {
-            if let ReplayLine::Measurements(set) = &line {
-                next_stamp = set.stamp;
-            }
-            keyed.push((next_stamp, 1 + position, line));
-        }
-    }
-    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut out = Vec::new();
-    for (_, _, line) in keyed {
-        serde_json::to_writer(&mut out, &line).unwrap();
-        out.push(b'\n');
-    }
-    out
+    let truth = (0..scenario.truth_count(DURATION_S)).map(|k| truth_set(scenario, seed, START, k));
+    replay_file(truth, agents)
 }
 
 fn figures(seed: u64) -> Figures {

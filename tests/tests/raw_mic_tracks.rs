@@ -11,6 +11,7 @@ use std::process::Command;
 
 use checker::processes::binary;
 use checker::raw_inputs::write_stereo_wav;
+use checker::replay_file;
 use evaluation::TRUTH_TOLERANCE_S;
 use fusion_server::config::ServerConfig;
 use fusion_server::replay::replay;
@@ -98,38 +99,15 @@ fn replay_file(scenario: &Scenario, seed: u64, keep_descriptor: bool) -> (Vec<u8
     (merged(scenario, seed, pairs), talkers)
 }
 
-/// The simulator's truth and each pair's lines, merged in stamp order (each pair's own lines keep
-/// their order: a refined descriptor stays before the sets that follow it).
+/// The simulator's truth and each pair's lines, merged in stamp order.
 fn merged(scenario: &Scenario, seed: u64, pairs: Vec<Vec<ReplayLine>>) -> Vec<u8> {
-    let mut keyed: Vec<(f64, usize, ReplayLine)> = simulator::replay_lines(scenario, seed, SECONDS)
+    let truth = simulator::replay_lines(scenario, seed, SECONDS)
         .unwrap()
         .filter_map(|line| match line {
-            ReplayLine::Truth(truth) => Some((truth.stamp, 0, ReplayLine::Truth(truth))),
+            ReplayLine::Truth(truth) => Some(truth),
             _ => None,
-        })
-        .collect();
-    for lines in pairs {
-        let mut next_stamp = f64::INFINITY;
-        let mut own = Vec::with_capacity(lines.len());
-        for line in lines.into_iter().rev() {
-            if let ReplayLine::Measurements(set) = &line {
-                next_stamp = set.stamp;
-            }
-            own.push((next_stamp, own.len(), line));
-        }
-        // Within one pair, a descriptor sorts before the set that follows it (reversed positions).
-        keyed.extend(
-            own.into_iter()
-                .map(|(stamp, rev, line)| (stamp, usize::MAX - rev, line)),
-        );
-    }
-    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut out = Vec::new();
-    for (_, _, line) in keyed {
-        serde_json::to_writer(&mut out, &line).unwrap();
-        out.push(b'\n');
-    }
-    out
+        });
+    replay_file::replay_file(truth, pairs)
 }
 
 /// What a perfect front end would send: per frame of the agent's (4096 samples, stamped at its
