@@ -101,6 +101,15 @@ impl Tracker {
                 .map(|v| v + f.survival_margin_m)
                 .collect(),
         )?)?;
+        let filter = match f.activity_model() {
+            Some(model) => filter.with_activity(model)?,
+            None => filter,
+        };
+        let filter = if f.label_existence {
+            filter.with_label_existence()
+        } else {
+            filter
+        };
         let filter = if f.adaptive_birth {
             filter.with_adaptive_birth(AdaptiveBirthConfig {
                 rate: f.adaptive_birth_rate,

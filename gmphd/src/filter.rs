@@ -3,9 +3,11 @@
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
+use crate::activity::ActivityModel;
 use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig};
 use crate::birth::BirthModel;
 use crate::error::FilterError;
+use crate::existence;
 use crate::gating::Gating;
 use crate::gaussian::{GaussianMixture, LabelSource};
 use crate::measurement::{Measurement, MeasurementModel};
@@ -69,6 +71,11 @@ pub struct GmPhdFilter {
     /// children under different measurements get labels of their own
     /// ([`crate::newborn`]).
     newborn: Range<u64>,
+    /// The objects' activity chain, when some sensors detect only active objects.
+    activity: Option<ActivityModel>,
+    /// Whether each label's weight after an update is that of a Bernoulli
+    /// ([`crate::existence`]) instead of the PHD's.
+    label_existence: bool,
 }
 
 impl GmPhdFilter {
@@ -107,7 +114,26 @@ impl GmPhdFilter {
             birth_owed_s: 0.0,
             last_association: Vec::new(),
             newborn: 0..0,
+            activity: None,
+            label_existence: false,
         })
+    }
+
+    /// Models the objects' activity ([`crate::activity`]): sensors that detect only active
+    /// objects ([`MeasurementModel::detects_only_active`]) scale p_D by each component's
+    /// probability of being active, which their misses lower and the chain relaxes.
+    pub fn with_activity(mut self, model: ActivityModel) -> Result<Self, FilterError> {
+        model.validate()?;
+        self.activity = Some(model);
+        Ok(self)
+    }
+
+    /// Updates each label of at most one object's weight as a Bernoulli ([`crate::existence`]):
+    /// a track the filter was sure of outlasts a run of misses, and a detected label does
+    /// not keep its missed-detection copies' weight on top of its detection's.
+    pub fn with_label_existence(mut self) -> Self {
+        self.label_existence = true;
+        self
     }
 
     /// Objects whose predicted position leaves `region` (the surveillance volume, perhaps with
@@ -248,6 +274,12 @@ impl GmPhdFilter {
             dt,
             region: self.survival_region.as_ref(),
         };
+        if let Some(activity) = &self.activity {
+            activity.predict_mixture(&mut self.intensity, dt);
+            births
+                .iter_mut()
+                .for_each(|birth| birth.activity = activity.stationary());
+        }
         let birth_count = births.len();
         predict_intensity(&mut self.intensity, &step, births, &mut self.labels)?;
         // Appended last, the static births first.
@@ -307,7 +339,10 @@ impl GmPhdFilter {
         measurements: &[Measurement],
         min_weight: f64,
     ) -> Result<(), FilterError> {
-        let association = self.updater.update_moving(
+        let prior_weights = self
+            .label_existence
+            .then(|| existence::label_weights(&self.intensity));
+        let (association, missed) = self.updater.update_moving(
             &mut self.intensity,
             self.motion.as_ref(),
             sensor,
@@ -316,6 +351,9 @@ impl GmPhdFilter {
         )?;
         if let Some(adaptive) = &mut self.adaptive_birth {
             adaptive.record(self.motion.as_ref(), sensor, measurements, &association);
+        }
+        if let Some(prior) = prior_weights {
+            existence::bernoulli_labels(&prior, &mut self.intensity, missed);
         }
         separate_newborn_children(&mut self.intensity, &self.newborn, &mut self.labels);
         self.last_association = association;

@@ -53,6 +53,16 @@ pub struct Gaussian {
     pub cov: DMatrix<f64>,
     /// The label the component inherited from its birth component.
     pub label: Label,
+    /// Probability that the object is *active* — in the state that sensors which detect only
+    /// active objects need, such as a talker talking for a microphone pair (see
+    /// [`crate::activity`]). 1 unless the filter models activity.
+    #[serde(default = "always_active")]
+    pub activity: f64,
+}
+
+/// The activity of a component of a filter that does not model it (and of older checkpoints).
+fn always_active() -> f64 {
+    1.0
 }
 
 impl Gaussian {
@@ -63,6 +73,7 @@ impl Gaussian {
             mean,
             cov,
             label,
+            activity: always_active(),
         }
     }
 

@@ -7,11 +7,13 @@
 //! reduction; labelled state extraction; optional measurement-driven birth
 //! (Ristic, Clark, Vo & Vo 2012) next to the static birth intensity.
 
+pub mod activity;
 pub mod adaptive_birth;
 pub mod assignment;
 pub mod birth;
 mod continuity;
 pub mod error;
+pub mod existence;
 pub mod extract;
 pub mod filter;
 pub mod gating;
@@ -32,6 +34,7 @@ pub mod tracks;
 pub mod ukf;
 pub mod update;
 
+pub use activity::ActivityModel;
 pub use adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig, BirthCandidate};
 pub use birth::{BirthModel, BirthTiming, GridBirth, GridBirthConfig, MixtureBirth};
 pub use error::FilterError;

@@ -128,13 +128,37 @@ pub fn update_gated(
 /// `first` components of [`Updater::parts`]) or, when it no longer needs the prior, moves
 /// ([`UpdateParts::moving_from`]), saving a copy of every component.
 pub(crate) struct UpdateParts {
-    /// (index into the predicted components, (1 − p_D) w), in input order.
-    missed: Vec<(usize, f64)>,
+    /// The missed-detection weights, in input order.
+    missed: Vec<Missed>,
     /// The components the update was asked to start with, then the detection children,
     /// in output order.
     children: Vec<Gaussian>,
     /// U(z) per measurement.
     association: Vec<f64>,
+}
+
+/// What a missed detection leaves of one predicted component.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Missed {
+    /// Index into the predicted components.
+    index: usize,
+    /// (1 − p_D) w, with p_D scaled by the activity for a sensor that detects only active
+    /// objects.
+    weight: f64,
+    /// The component's activity after the miss ([`crate::activity::after_miss`] for such a
+    /// sensor, unchanged for others).
+    activity: f64,
+}
+
+impl Missed {
+    /// The missed-detection copy of `component` (the predicted component at `index`).
+    fn applied_to(&self, component: Gaussian) -> Gaussian {
+        Gaussian {
+            weight: self.weight,
+            activity: self.activity,
+            ..component
+        }
+    }
 }
 
 impl UpdateParts {
@@ -144,11 +168,8 @@ impl UpdateParts {
         let mut components = Vec::with_capacity(self.missed.len() + self.children.len());
         let mut missed = self.missed.iter().peekable();
         for (i, component) in predicted.components.into_iter().enumerate() {
-            if let Some(&(_, weight)) = missed.next_if(|(index, _)| *index == i) {
-                components.push(Gaussian {
-                    weight,
-                    ..component
-                });
+            if let Some(miss) = missed.next_if(|miss| miss.index == i) {
+                components.push(miss.applied_to(component));
             }
         }
         components.extend(self.children);

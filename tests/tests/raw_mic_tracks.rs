@@ -13,7 +13,7 @@ use checker::processes::binary;
 use checker::raw_inputs::write_stereo_wav;
 use checker::replay_file;
 use evaluation::TRUTH_TOLERANCE_S;
-use fusion_server::config::ServerConfig;
+use fusion_server::config::{MotionKind, ServerConfig};
 use fusion_server::replay::replay;
 use gmphd::metrics::{ospa, MetricParams};
 use nalgebra::DVector;
@@ -37,6 +37,18 @@ fn two_talker_room() -> Scenario {
         .sensors
         .retain(|s| matches!(s.model, SensorModel::MicPair(_)));
     scenario
+}
+
+/// The server's configuration for a room of talkers, as its user would write it: talkers are
+/// followed by what they say, so their pauses are modelled (`filter.speech_activity`), and people
+/// who stand or stroll while talking are a random walk (`filter.motion`, 0.2 m/√s) rather than a
+/// constant velocity that a silent talker's track would coast away on.
+fn talker_config() -> ServerConfig {
+    let mut config = ServerConfig::default();
+    config.filter.speech_activity = true;
+    config.filter.motion = MotionKind::RandomWalk;
+    config.filter.position_noise_std = 0.2;
+    config
 }
 
 /// One pair's rendered audio through the real `edge-agent mic-pair --wav` (its front end, and the
@@ -202,24 +214,26 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
     let scenario = two_talker_room();
     for seed in [1, 2, 3] {
         let (input, talkers) = replay_file(&scenario, seed, false);
-        let report = replay(ServerConfig::default(), input.as_slice(), std::io::sink()).unwrap();
+        let report = replay(talker_config(), input.as_slice(), std::io::sink()).unwrap();
         assert_eq!(report.bad_lines, 0);
         let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, &talkers);
         println!(
             "seed {seed}: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
             100.0 * right
         );
-        // Floors under today's figures (0.63-0.72 m, 31-48 %; 0.66-0.74 m before the pairs took
-        // their sources in their own plane), far from the goal of 0.25 m and 80 %: they catch a
-        // chain gone worse. Exact TDOAs in place of the front end's still give 0.43-0.51 m (the
-        // test below): pauses and shared labels cost more than the front end does.
-        assert!(ospa_xy <= 0.75, "mean OSPA(x, y) {ospa_xy:.3} m");
+        // Floors under today's figures (0.56-0.61 m, 38-53 %; 0.63-0.72 m and 31-48 % with the
+        // default configuration before labels became Bernoulli), far from the goal of 0.25 m and
+        // 80 %: they catch a chain gone worse. Exact TDOAs in place of the front end's give
+        // 0.16-0.24 m and 77-90 % (the test below): what is left is the front end's, which emits
+        // up to five peaks a frame, most of them reverberation next to a talker's direct path.
+        assert!(ospa_xy <= 0.65, "mean OSPA(x, y) {ospa_xy:.3} m");
         assert!(right >= 0.3, "count right in {:.0} %", 100.0 * right);
     }
 }
 
 /// The fusion's part of the gap: the same chain with a perfect front end's sets in place of the
-/// agent's (every talking talker's exact TDOA in every pair, no clutter) and the same descriptors.
+/// agent's (every talking talker's exact TDOA in every pair, no clutter) and the same descriptors:
+/// a talker's pauses must not cost its track.
 #[test]
 fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
     let scenario = two_talker_room();
@@ -234,17 +248,18 @@ fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
             .map(|spec| exact_lines(&scenario, spec, seed, &rendered.talkers))
             .collect();
         let input = merged(&scenario, seed, pairs);
-        let report = replay(ServerConfig::default(), input.as_slice(), std::io::sink()).unwrap();
+        let report = replay(talker_config(), input.as_slice(), std::io::sink()).unwrap();
         assert_eq!(report.bad_lines, 0);
         let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, &rendered.talkers);
         println!(
             "seed {seed}, exact TDOAs: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
             100.0 * right
         );
-        // Floors under today's figures (0.43-0.51 m, 16-37 %): the tracks follow whoever talks,
-        // and a talker who pauses loses its track within a second (each set without it counts as a
-        // miss, and its fading component merges into the talking one's), so the count is mostly one.
-        assert!(ospa_xy <= 0.6, "mean OSPA(x, y) {ospa_xy:.3} m");
-        assert!(right >= 0.15, "count right in {:.0} %", 100.0 * right);
+        // Floors under today's figures (0.16-0.24 m, 77-90 %). Before the pauses were modelled and
+        // labels were Bernoulli, 0.43-0.51 m and 16-37 %: each set without a silent talker counted
+        // as a miss, its track was gone within a second, and its fading component merged into the
+        // talking one's.
+        assert!(ospa_xy <= 0.3, "mean OSPA(x, y) {ospa_xy:.3} m");
+        assert!(right >= 0.7, "count right in {:.0} %", 100.0 * right);
     }
 }

@@ -1,5 +1,6 @@
 //! `[filter]`: the GM-PHD filter's motion model, birth, survival and mixture reduction.
 
+use gmphd::ActivityModel;
 use serde::Deserialize;
 
 use super::{invalid, positive, probability, ConfigError};
@@ -87,6 +88,18 @@ pub struct FilterConfig {
     pub max_components: usize,
     /// A component (label) with weight above this is an estimate.
     pub extraction_threshold: f64,
+    /// Model talkers' pauses (`gmphd::activity`): a microphone pair's set without a talker is
+    /// weak evidence against the talker while the talker may be silent, and a silent talker's
+    /// component is not merged into a talking one's. No effect without microphone pairs.
+    pub speech_activity: bool,
+    /// Mean talk spurt, seconds (ITU-T P.59: 1.004).
+    pub mean_talk_s: f64,
+    /// Mean pause between talk spurts, seconds (ITU-T P.59: 1.587).
+    pub mean_pause_s: f64,
+    /// A label's weight after a miss is its Bernoulli existence (`gmphd::existence`, as in the
+    /// labelled multi-Bernoulli filter) rather than the PHD's `(1 − p_D) w`: a track the filter
+    /// was sure of outlasts a run of misses.
+    pub label_existence: bool,
 }
 
 impl Default for FilterConfig {
@@ -111,6 +124,10 @@ impl Default for FilterConfig {
             merge_threshold: 4.0,
             max_components: 100,
             extraction_threshold: 0.5,
+            speech_activity: false,
+            mean_talk_s: ActivityModel::default().mean_active_s,
+            mean_pause_s: ActivityModel::default().mean_inactive_s,
+            label_existence: true,
         }
     }
 }
@@ -167,6 +184,16 @@ impl FilterConfig {
         if self.max_components == 0 {
             return Err(invalid("filter.max_components", "must be at least 1"));
         }
+        positive("filter.mean_talk_s", self.mean_talk_s)?;
+        positive("filter.mean_pause_s", self.mean_pause_s)?;
         positive("filter.extraction_threshold", self.extraction_threshold)
+    }
+
+    /// The talkers' activity chain, when `speech_activity` is on.
+    pub fn activity_model(&self) -> Option<ActivityModel> {
+        self.speech_activity.then_some(ActivityModel {
+            mean_active_s: self.mean_talk_s,
+            mean_inactive_s: self.mean_pause_s,
+        })
     }
 }

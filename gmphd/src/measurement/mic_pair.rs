@@ -108,6 +108,11 @@ impl MeasurementModel for MicPair {
         self.detection.probability
     }
 
+    /// A pair hears a talker only while the talker talks.
+    fn detects_only_active(&self) -> bool {
+        true
+    }
+
     fn clutter_rate(&self) -> f64 {
         self.detection.clutter_rate
     }

@@ -125,6 +125,13 @@ pub trait MeasurementModel: Send + Sync + Debug {
     /// of range.
     fn detection_probability(&self, p: &Vector3<f64>) -> f64;
 
+    /// Whether the sensor detects an object only while it is active (a microphone pair hears
+    /// a talker only while the talker talks; see [`crate::activity`]). False by default: the
+    /// sensor sees an object whatever it does.
+    fn detects_only_active(&self) -> bool {
+        false
+    }
+
     /// Mean number of clutter measurements per set (λ).
     fn clutter_rate(&self) -> f64;
 

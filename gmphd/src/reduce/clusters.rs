@@ -3,6 +3,7 @@
 use nalgebra::DMatrix;
 
 use super::{heaviest_first, rank, PruneMergeCap, Rank};
+use crate::activity::MERGE_ACTIVITY_GAP;
 use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::linalg::{robust_cholesky, MahalanobisGate};
 use crate::sweep;
@@ -90,7 +91,11 @@ impl PruneMergeCap {
                 }
                 let (candidate, gate) = (kept[i], &mut gates[i]);
                 let robust = |cov: &DMatrix<f64>| Some(robust_cholesky(cov).unpack());
+                // Pasha et al. merge within a mode only (see `crate::activity`).
+                let same_mode =
+                    (candidate.activity - kept[pivot].activity).abs() <= MERGE_ACTIVITY_GAP;
                 let within = candidate.dim() == centre.len()
+                    && same_mode
                     && gate.contains(
                         &candidate.cov,
                         &candidate.mean,

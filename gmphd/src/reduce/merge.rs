@@ -38,7 +38,7 @@ where
     mean /= weight;
     let mut cov = OMatrix::<f64, D, D>::zeros_generic(dim, dim);
     let mut d = OVector::<f64, D>::zeros_generic(dim, U1);
-    for g in members {
+    for g in members.clone() {
         for ((d, x), m) in d
             .as_mut_slice()
             .iter_mut()
@@ -67,10 +67,14 @@ where
     }
     cov /= weight;
     symmetrize_in_place(&mut cov);
-    Gaussian::new(
-        weight,
-        DVector::from_column_slice(mean.as_slice()),
-        DMatrix::from_column_slice(n, n, cov.as_slice()),
-        first.label,
-    )
+    let activity = members.map(|g| g.weight * g.activity).sum::<f64>() / weight;
+    Gaussian {
+        activity,
+        ..Gaussian::new(
+            weight,
+            DVector::from_column_slice(mean.as_slice()),
+            DMatrix::from_column_slice(n, n, cov.as_slice()),
+            first.label,
+        )
+    }
 }

@@ -146,6 +146,9 @@ where
                 *x += g * r;
             }
         }
-        Gaussian::new(weight, mean, cov, component.label)
+        Gaussian {
+            activity: component.activity,
+            ..Gaussian::new(weight, mean, cov, component.label)
+        }
     }
 }

@@ -8,7 +8,8 @@ use super::birth_memo::{BirthProjections, StaticBirths};
 use super::detection::detection_probability;
 use super::dims::{Dynamic, Fixed};
 use super::sized::{update_sized, UpdateScratch, Work};
-use super::{UpdateOutcome, UpdateParts, UpdateStep};
+use super::{Missed, UpdateOutcome, UpdateParts, UpdateStep};
+use crate::activity;
 use crate::error::FilterError;
 use crate::gating::Gating;
 use crate::gaussian::{Gaussian, GaussianMixture};
@@ -93,11 +94,8 @@ impl Updater {
     ) -> Result<UpdateOutcome, FilterError> {
         // The missed-detection copies go first into the output, so that the children are
         // emitted behind them instead of being moved there afterwards.
-        let copies = |missed: &[(usize, f64)]| {
-            let copy = |&(i, weight): &(usize, f64)| Gaussian {
-                weight,
-                ..prior.components[i].clone()
-            };
+        let copies = |missed: &[Missed]| {
+            let copy = |miss: &Missed| miss.applied_to(prior.components[miss.index].clone());
             missed.iter().map(copy).collect()
         };
         let floor = self.gating.min_weight;
@@ -110,7 +108,9 @@ impl Updater {
 
     /// [`Updater::update`] of a prior the caller gives up, whose components are moved
     /// into the posterior rather than copied, with the weight floor `min_weight` instead of
-    /// the gating's. On error `prior` is left as it was.
+    /// the gating's. Returns each measurement's U(z) and how many of the posterior's
+    /// components, at its start, are missed-detection copies (the rest are detection
+    /// children). On error `prior` is left as it was.
     pub(crate) fn update_moving(
         &mut self,
         prior: &mut GaussianMixture,
@@ -118,12 +118,13 @@ impl Updater {
         sensor: &dyn MeasurementModel,
         measurements: &[Measurement],
         min_weight: f64,
-    ) -> Result<Vec<f64>, FilterError> {
-        let no_first = |_: &[(usize, f64)]| Vec::new();
+    ) -> Result<(Vec<f64>, usize), FilterError> {
+        let no_first = |_: &[Missed]| Vec::new();
         let parts = self.parts(prior, motion, sensor, measurements, min_weight, no_first)?;
+        let missed = parts.missed.len();
         let outcome = parts.moving_from(std::mem::take(prior));
         *prior = outcome.posterior;
-        Ok(outcome.association)
+        Ok((outcome.association, missed))
     }
 
     /// The work of an update: the detection children are appended to the components
@@ -136,7 +137,7 @@ impl Updater {
         sensor: &dyn MeasurementModel,
         measurements: &[Measurement],
         min_weight: f64,
-        first: impl FnOnce(&[(usize, f64)]) -> Vec<Gaussian>,
+        first: impl FnOnce(&[Missed]) -> Vec<Gaussian>,
     ) -> Result<UpdateParts, FilterError> {
         for measurement in measurements {
             sensor.validate(measurement)?;
@@ -148,6 +149,7 @@ impl Updater {
         };
         let (missed, seen) = split_by_detection(predicted, &step);
         let mut children = first(&missed);
+        let first_child = children.len();
         let hints = sensor.update_hints();
         let index_dim = hints
             .index_dim
@@ -183,6 +185,12 @@ impl Updater {
             (Some(4), 2) => update_sized(Fixed::<4, 2>, &work, births, scratch, out),
             (_, m) => update_sized(Dynamic(m), &work, births, scratch, out),
         }?;
+        if sensor.detects_only_active() {
+            // Heard, so active.
+            children[first_child..]
+                .iter_mut()
+                .for_each(|child| child.activity = 1.0);
+        }
         Ok(UpdateParts {
             missed,
             children,
@@ -197,22 +205,34 @@ impl Updater {
     }
 }
 
-/// The missed-detection weights (index, (1 − p_D) w) of the components of `predicted`,
-/// and those the sensor can detect (index, component, log(p_D w)); components of zero
-/// weight are in neither.
+/// The missed-detection weights ((1 − p_D) w) of the components of `predicted`, and those
+/// the sensor can detect (index, component, log(p_D w)); components of zero weight are in
+/// neither. For a sensor that detects only active objects p_D is scaled by the component's
+/// activity, and a miss lowers the activity ([`crate::activity`]).
 #[allow(clippy::type_complexity)]
 fn split_by_detection<'p>(
     predicted: &'p GaussianMixture,
     step: &UpdateStep<'_>,
-) -> (Vec<(usize, f64)>, Vec<(usize, &'p Gaussian, f64)>) {
+) -> (Vec<Missed>, Vec<(usize, &'p Gaussian, f64)>) {
     let mut missed = Vec::with_capacity(predicted.len());
     let mut seen = Vec::with_capacity(predicted.len());
     let mut point = DVector::zeros(0);
+    let only_active = step.sensor.detects_only_active();
     for (index, component) in predicted.iter().enumerate().filter(|(_, c)| c.weight > 0.0) {
-        let p_d = detection_probability(component, step, &mut point);
-        let missed_weight = (1.0 - p_d) * component.weight;
-        if missed_weight > 0.0 {
-            missed.push((index, missed_weight));
+        let p_seen = detection_probability(component, step, &mut point);
+        let (p_d, activity) = if only_active {
+            let a = component.activity;
+            (p_seen * a, activity::after_miss(a, p_seen))
+        } else {
+            (p_seen, component.activity)
+        };
+        let weight = (1.0 - p_d) * component.weight;
+        if weight > 0.0 {
+            missed.push(Missed {
+                index,
+                weight,
+                activity,
+            });
         }
         if p_d > 0.0 {
             seen.push((index, component, (p_d * component.weight).ln()));
