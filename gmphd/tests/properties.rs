@@ -1,13 +1,14 @@
 //! Property tests: whatever the scenario — any sensor kind, empty sets, no clutter,
 //! heavy clutter, extreme noise, TDOA-peaked likelihoods, irregular and zero time
-//! steps — the intensity stays a valid Gaussian mixture after every step.
+//! steps, with the plain PHD update or with activity and Bernoulli labels — the intensity stays a
+//! valid Gaussian mixture after every step.
 
 mod common;
 
 use gmphd::{
-    BearingRange, BirthTiming, ConstantVelocity, CoordinatedTurn, Detection, FilterConfig,
-    GmPhdFilter, GridBirth, GridBirthConfig, Lidar, MeasurementModel, MicPair, PinholeCamera,
-    PositionSensor, PruneMergeCap, RandomWalk, Survival, UnscentedParams,
+    ActivityModel, BearingRange, BirthTiming, ConstantVelocity, CoordinatedTurn, Detection,
+    FilterConfig, GmPhdFilter, GridBirth, GridBirthConfig, Lidar, MeasurementModel, MicPair,
+    PinholeCamera, PositionSensor, PruneMergeCap, RandomWalk, Survival, UnscentedParams,
 };
 use gmphd::{GaussianMixture, MotionModel};
 use nalgebra::{Matrix3x4, Vector3};
@@ -167,6 +168,7 @@ fn check_mixture(mixture: &GaussianMixture, state_dim: usize) -> Result<(), Test
             "weight {}",
             c.weight
         );
+        prop_assert!((0.0..=1.0).contains(&c.activity), "activity {}", c.activity);
         prop_assert_eq!(c.mean.len(), state_dim);
         prop_assert!(c.mean.iter().all(|x| x.is_finite()), "mean {}", c.mean);
         let scale = c.cov.amax();
@@ -184,6 +186,13 @@ fn check_mixture(mixture: &GaussianMixture, state_dim: usize) -> Result<(), Test
     Ok(())
 }
 
+/// Whether the filter models activity and updates labels as Bernoulli existences.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Options {
+    Plain,
+    ActivityAndExistence,
+}
+
 fn run(
     seed: u64,
     kind: usize,
@@ -191,6 +200,7 @@ fn run(
     noise_scale: f64,
     p_d: f64,
     steps: usize,
+    options: Options,
 ) -> Result<(), TestCaseError> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let detection = Detection::new(p_d, clutter_rate).unwrap();
@@ -213,6 +223,12 @@ fn run(
         0.0,
     )
     .unwrap();
+    if options == Options::ActivityAndExistence {
+        filter = filter
+            .with_activity(ActivityModel::default())
+            .unwrap()
+            .with_label_existence();
+    }
     let objects: Vec<Vector3<f64>> = (0..rng.gen_range(0..4))
         .map(|_| {
             Vector3::from_fn(|i, _| {
@@ -262,8 +278,10 @@ proptest! {
         noise_scale in prop::sample::select(vec![1e-3, 1.0, 50.0]),
         p_d in 0.05f64..=1.0,
         steps in 3usize..12,
+        modelled in any::<bool>(),
     ) {
-        run(seed, kind, clutter_rate, noise_scale, p_d, steps)?;
+        let options = if modelled { Options::ActivityAndExistence } else { Options::Plain };
+        run(seed, kind, clutter_rate, noise_scale, p_d, steps, options)?;
     }
 }
 
@@ -273,7 +291,9 @@ fn tdoa_peaked_likelihoods_in_heavy_clutter() {
     // of delay) and 6e-8 s (~1e7), with and without clutter, for many seeds.
     for seed in 0..12 {
         for (noise_scale, clutter) in [(1.0, 0.0), (1.0, 20.0), (1e-3, 0.0), (1e-3, 20.0)] {
-            run(seed, 2, clutter, noise_scale, 0.9, 10).unwrap();
+            for options in [Options::Plain, Options::ActivityAndExistence] {
+                run(seed, 2, clutter, noise_scale, 0.9, 10, options).unwrap();
+            }
         }
     }
 }
