@@ -113,18 +113,7 @@ impl Variant {
 }
 
 fn microphone_pairs() -> Vec<MicPair> {
-    let detection = Detection::new(0.7, 2.0).unwrap();
-    [
-        ([1.25, 0.0, 1.2], [1.75, 0.0, 1.2]),
-        ([3.0, 1.25, 2.0], [3.0, 1.75, 2.0]),
-        ([1.75, 3.0, 1.2], [1.25, 3.0, 1.2]),
-        ([0.0, 1.75, 2.0], [0.0, 1.25, 2.0]),
-    ]
-    .into_iter()
-    .map(|(m1, m2)| {
-        MicPair::new(m1, m2, MicPair::DEFAULT_SPEED_OF_SOUND, 6.25e-5, detection).unwrap()
-    })
-    .collect()
+    common::pham_microphone_pairs(Detection::new(0.7, 2.0).unwrap())
 }
 
 fn tracker(variant: Variant) -> LabelledTracker {

@@ -8,11 +8,30 @@ pub mod vo_demo;
 pub mod vo_nonlinear;
 
 use gmphd::metrics::{ospa, MetricParams};
-use gmphd::{Gaussian, GaussianMixture, Label, LabelledTracker, Measurement, MeasurementModel};
+use gmphd::{
+    Detection, Gaussian, GaussianMixture, Label, LabelledTracker, Measurement, MeasurementModel,
+    MicPair,
+};
 use nalgebra::{DMatrix, DVector, Vector3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Poisson, StandardNormal};
+
+/// Pham's four microphone pairs (thesis 5.6.2) in a 3 × 3 m room: 0.5 m spacing, one pair in the
+/// middle of each wall, alternately at 1.2 m and 2.0 m, TDOA noise of one sample at 16 kHz.
+pub fn pham_microphone_pairs(detection: Detection) -> Vec<MicPair> {
+    [
+        ([1.25, 0.0, 1.2], [1.75, 0.0, 1.2]),
+        ([3.0, 1.25, 2.0], [3.0, 1.75, 2.0]),
+        ([1.75, 3.0, 1.2], [1.25, 3.0, 1.2]),
+        ([0.0, 1.75, 2.0], [0.0, 1.25, 2.0]),
+    ]
+    .into_iter()
+    .map(|(m1, m2)| {
+        MicPair::new(m1, m2, MicPair::DEFAULT_SPEED_OF_SOUND, 6.25e-5, detection).unwrap()
+    })
+    .collect()
+}
 
 /// One unit-covariance component per `(label, weight)`, at x = label on the x axis of a
 /// 2-D state, so that labels are also positions.
