@@ -49,6 +49,9 @@ acl_probe() { # label, service playing the impostor, its certificate's common na
   # received and processed grow with the genuine lidar; late and invalid must not move. A forged set (seq
   # 2^40 and up) would add about 10^12 to lost; a genuine set lost on a busy host adds one: allowed, shown.
   [ "$(cut -d' ' -f4-5 <<<"$lidar0")" = "$(cut -d' ' -f4-5 <<<"$lidar1")" ] || ok=0
+  case "$lidar0 $lidar1" in
+    *no-status*) echo "    the server's status did not answer"; fail "$label: no status to compare"; return ;;
+  esac
   local lost_grew=$(($(field "$lidar1" 6) - $(field "$lidar0" 6)))
   [ "$lost_grew" -lt 1000 ] || ok=0
   [ "$lost_grew" = 0 ] || echo "    lidar's lost grew by $lost_grew: genuine sets missing from its seq (a forged one would add about 10^12)"

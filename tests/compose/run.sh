@@ -102,7 +102,16 @@ checker() {
   return "$rc"
 }
 checker_json() { dc run --rm -T checker "$@" 2>/dev/null; }
-status_json() { checker_json status; }
+# The server's status as JSON; a query that gets no answer (a checker container started on a busy host)
+# is asked again, up to three times in all.
+status_json() {
+  local attempt
+  for attempt in 1 2 3; do
+    checker_json status && return 0
+    [ "$attempt" = 3 ] || sleep 1
+  done
+  return 1
+}
 container_of() { dc ps -q "$1"; }
 # Takes the project under test down (volumes too), after its services' last logs when a check failed.
 down_project() {
