@@ -32,17 +32,26 @@ pub const MAX_EXISTENCE: f64 = 0.99;
 
 /// Each label's total weight, sorted by label.
 pub fn label_weights(mixture: &GaussianMixture) -> Vec<(Label, f64)> {
-    sum_by_label(mixture.iter().map(|c| (c.label, c.weight)))
+    sum_by_label(mixture.iter().map(|c| (c.label, [c.weight])))
+        .into_iter()
+        .map(|(label, [weight])| (label, weight))
+        .collect()
 }
 
-/// The weights summed per label, sorted by label.
-fn sum_by_label(weights: impl Iterator<Item = (Label, f64)>) -> Vec<(Label, f64)> {
-    let mut weights: Vec<(Label, f64)> = weights.collect();
+/// The weights summed per label, entry by entry, sorted by label.
+fn sum_by_label<const N: usize>(
+    weights: impl Iterator<Item = (Label, [f64; N])>,
+) -> Vec<(Label, [f64; N])> {
+    let mut weights: Vec<(Label, [f64; N])> = weights.collect();
     weights.sort_unstable_by_key(|(label, _)| *label);
     weights.dedup_by(|later, first| {
         let same = later.0 == first.0;
         if same {
-            first.1 += later.1;
+            first
+                .1
+                .iter_mut()
+                .zip(later.1)
+                .for_each(|(sum, w)| *sum += w);
         }
         same
     });
@@ -103,24 +112,23 @@ fn no_heavier(prior: f64, missed: f64, detected: f64) -> Scales {
 }
 
 /// Rescales every label of `posterior` as the module documentation says: a Bernoulli for a
-/// label of at most one object, no heavier than before for others. `prior` is each label's weight before the update, as
-/// [`label_weights`] gives it; the first `missed` components of `posterior` are the
-/// missed-detection copies, the rest detection children.
+/// label of at most one object, no heavier than before for others. `prior` is each label's
+/// weight before the update, as [`label_weights`] gives it; the first `missed` components of
+/// `posterior` are the missed-detection copies, the rest detection children.
 pub fn bernoulli_labels(prior: &[(Label, f64)], posterior: &mut GaussianMixture, missed: usize) {
     let split = missed.min(posterior.len());
-    let (copies, children) = posterior.components.split_at(split);
-    let missed_weights = sum_by_label(copies.iter().map(|c| (c.label, c.weight)));
-    let detected_weights = sum_by_label(children.iter().map(|c| (c.label, c.weight)));
-    let labels = sum_by_label(posterior.iter().map(|c| (c.label, 0.0)));
-    let factors: Vec<(Label, Option<Scales>)> = labels
+    // Per label: the weight of its missed-detection copies and that of its children.
+    let sums = sum_by_label(posterior.iter().enumerate().map(|(index, c)| {
+        let parts = if index < split {
+            [c.weight, 0.0]
+        } else {
+            [0.0, c.weight]
+        };
+        (c.label, parts)
+    }));
+    let factors: Vec<(Label, Option<Scales>)> = sums
         .iter()
-        .map(|&(label, _)| {
-            let (m, d) = (
-                weight_of(&missed_weights, label),
-                weight_of(&detected_weights, label),
-            );
-            (label, scales(weight_of(prior, label), m, d))
-        })
+        .map(|&(label, [m, d])| (label, scales(weight_of(prior, label), m, d)))
         .collect();
     for (index, component) in posterior.components.iter_mut().enumerate() {
         let at = factors.binary_search_by_key(&component.label, |(l, _)| *l);

@@ -96,9 +96,9 @@ pub struct FilterConfig {
     pub mean_talk_s: f64,
     /// Mean pause between talk spurts, seconds (ITU-T P.59: 1.587).
     pub mean_pause_s: f64,
-    /// A label's weight after a miss is its Bernoulli existence (`gmphd::existence`, as in the
-    /// labelled multi-Bernoulli filter) rather than the PHD's `(1 − p_D) w`: a track the filter
-    /// was sure of outlasts a run of misses.
+    /// Each label's weight after an update is that of a Bernoulli (`gmphd::existence`, as in the
+    /// labelled multi-Bernoulli filter) rather than the PHD's: a track the filter was sure of
+    /// outlasts a run of misses, and a detected label keeps no missed-detection weight on top.
     pub label_existence: bool,
 }
 
