@@ -10,7 +10,9 @@
 
 use std::path::{Path, PathBuf};
 
-use frontends::lidar::{read_kitti_bin, read_pcd, LidarConfig, LidarPipeline, PointCloud};
+use frontends::lidar::{
+    measurement_covariance, read_kitti_bin, read_pcd, LidarConfig, LidarPipeline, PointCloud,
+};
 use protocol::{LidarModel, SensorKind, SensorModel};
 
 use crate::capture_clock::CaptureClock;
@@ -196,7 +198,8 @@ pub fn read_scan(path: &Path) -> Result<PointCloud, AgentError> {
     })
 }
 
-/// The front end and the descriptor's region: one scan in, one frame of in-region centroids out.
+/// The front end and the descriptor's region: one scan in, one frame of in-region objects out, each with its
+/// covariance (the sensor's noise and the front end's `objects.centre_std`).
 pub struct ScanSegmenter {
     pipeline: LidarPipeline,
     model: LidarModel,
@@ -224,10 +227,22 @@ impl ScanSegmenter {
                 "clusters outside the descriptor's range or elevation limits left out"
             );
         }
+        let centre_std = self.pipeline.config().objects.centre_std;
+        let covariances = (centre_std > 0.0).then(|| {
+            measurements
+                .iter()
+                .map(|m| {
+                    measurement_covariance([m[0], m[1], m[2]], centre_std, self.model.noise_std)
+                        .iter()
+                        .map(|row| row.to_vec())
+                        .collect()
+                })
+                .collect()
+        });
         Frame {
             stamp,
             measurements,
-            covariances: None,
+            covariances,
         }
     }
 }

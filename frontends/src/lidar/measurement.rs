@@ -15,6 +15,30 @@ pub fn point_to_measurement(point: [f64; 3]) -> [f64; 3] {
     [horizontal.hypot(z), azimuth, z.atan2(horizontal)]
 }
 
+/// Covariance (rows) of a measurement `[range, azimuth, elevation]` whose point is uncertain by `centre_std`
+/// metres in every direction, on top of the sensor's own `noise_std` (range in metres, angles in radians).
+///
+/// An isotropic spread σ² I of the point maps through the Jacobian J of the spherical coordinates to
+/// σ² J Jᵀ = σ² diag(1, 1/h², 1/r²), h the point's horizontal distance from the sensor's axis and r its range
+/// (J's rows are orthogonal, so no cross terms); the sensor's noise adds on the diagonal. Near the axis the
+/// azimuth carries no information: h is taken as at least `centre_std` there, so the azimuth's standard
+/// deviation stays at most about a radian and the matrix finite.
+pub fn measurement_covariance(
+    [range, _, elevation]: [f64; 3],
+    centre_std: f64,
+    noise_std: [f64; 3],
+) -> [[f64; 3]; 3] {
+    let spread = centre_std * centre_std;
+    let horizontal = (range * elevation.cos()).abs().max(centre_std);
+    let range = range.max(centre_std);
+    let diagonal = [
+        noise_std[0].powi(2) + spread,
+        noise_std[1].powi(2) + spread / (horizontal * horizontal),
+        noise_std[2].powi(2) + spread / (range * range),
+    ];
+    std::array::from_fn(|i| std::array::from_fn(|j| if i == j { diagonal[i] } else { 0.0 }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -41,6 +65,48 @@ mod tests {
             [8f64.sqrt(), -PI / 2.0, -FRAC_PI_4],
         );
         assert_close(point_to_measurement([0.0, 0.0, 0.0]), [0.0, 0.0, 0.0]);
+    }
+
+    /// The covariance against a Monte Carlo-free check: the Jacobian of `point_to_measurement` by central
+    /// differences, J σ² Jᵀ, plus the sensor noise.
+    #[test]
+    fn covariance_is_the_spread_through_the_jacobian() {
+        let point = [0.7, -1.1, -0.9];
+        let (std, noise) = (0.05, [0.02, 0.01, 0.005]);
+        let h = 1e-6;
+        let jacobian: Vec<[f64; 3]> = (0..3)
+            .map(|axis| {
+                let mut plus = point;
+                let mut minus = point;
+                plus[axis] += h;
+                minus[axis] -= h;
+                let (p, m) = (point_to_measurement(plus), point_to_measurement(minus));
+                std::array::from_fn(|k| (p[k] - m[k]) / (2.0 * h))
+            })
+            .collect();
+        let covariance = measurement_covariance(point_to_measurement(point), std, noise);
+        for i in 0..3 {
+            for j in 0..3 {
+                let spread: f64 = (0..3).map(|a| jacobian[a][i] * jacobian[a][j]).sum::<f64>();
+                let expected = std * std * spread + if i == j { noise[i] * noise[i] } else { 0.0 };
+                assert!(
+                    (covariance[i][j] - expected).abs() < 1e-8,
+                    "({i}, {j}): {} != {expected}",
+                    covariance[i][j]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn covariance_stays_finite_on_the_axis() {
+        let covariance =
+            measurement_covariance([1.0, 0.0, std::f64::consts::FRAC_PI_2], 0.05, [0.0; 3]);
+        assert!(covariance.iter().flatten().all(|v| v.is_finite()));
+        assert!(
+            (covariance[1][1] - 1.0).abs() < 1e-9,
+            "azimuth σ about a radian"
+        );
     }
 
     #[test]

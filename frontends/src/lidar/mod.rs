@@ -54,7 +54,7 @@ pub use config::{LidarConfig, SegmentationMethod};
 pub use error::{CloudFileError, CloudFileProblem, LidarConfigError};
 pub use ground::{GroundRemoval, HeightThreshold};
 pub use kitti::{decode_kitti_bin, encode_kitti_bin, read_kitti_bin, write_kitti_bin};
-pub use measurement::point_to_measurement;
+pub use measurement::{measurement_covariance, point_to_measurement};
 pub use objects::{detect_object, DetectedObject, Estimate, GroundFrame, ObjectConfig};
 pub use pcd::{decode_pcd, encode_pcd, read_pcd, write_pcd, PcdEncoding};
 pub use pipeline::{LidarPipeline, Segmentation};
