@@ -10,9 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
-use frontends::lidar::{
-    measurement_covariance, read_kitti_bin, read_pcd, LidarConfig, LidarPipeline, PointCloud,
-};
+use frontends::lidar::{read_kitti_bin, read_pcd, LidarConfig, LidarPipeline, PointCloud};
 use protocol::{LidarModel, SensorKind, SensorModel};
 
 use crate::capture_clock::CaptureClock;
@@ -215,30 +213,23 @@ impl ScanSegmenter {
     /// The frame of `cloud`, stamped `stamp`.
     pub fn frame(&self, cloud: &PointCloud, stamp: f64) -> Frame {
         let all = self.pipeline.measurements(cloud);
-        let measurements: Vec<Vec<f64>> = all
-            .iter()
-            .filter(|m| self.in_region(m))
-            .map(|m| m.to_vec())
-            .collect();
-        if measurements.len() < all.len() {
+        let kept: Vec<[f64; 3]> = all.iter().copied().filter(|m| self.in_region(m)).collect();
+        if kept.len() < all.len() {
             tracing::debug!(
                 stamp,
-                outside = all.len() - measurements.len(),
+                outside = all.len() - kept.len(),
                 "clusters outside the descriptor's range or elevation limits left out"
             );
         }
-        let centre_std = self.pipeline.config().objects.centre_std;
-        let covariances = (centre_std > 0.0).then(|| {
-            measurements
-                .iter()
-                .map(|m| {
-                    measurement_covariance([m[0], m[1], m[2]], centre_std, self.model.noise_std)
-                        .iter()
-                        .map(|row| row.to_vec())
-                        .collect()
-                })
-                .collect()
-        });
+        let covariances = self
+            .pipeline
+            .covariances(&kept, self.model.noise_std)
+            .map(|all| {
+                all.iter()
+                    .map(|c| c.iter().map(|row| row.to_vec()).collect())
+                    .collect()
+            });
+        let measurements = kept.iter().map(|m| m.to_vec()).collect();
         Frame {
             stamp,
             measurements,

@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use frontends::lidar::{measurement_covariance, LidarConfig, LidarPipeline, PointCloud};
+use frontends::lidar::{LidarConfig, LidarPipeline, PointCloud};
 use fusion_server::config::ServerConfig;
 use fusion_server::replay::replay;
 use protocol::{LidarModel, MeasurementSet, ReplayLine, SensorModel, TruthSet};
@@ -117,12 +117,12 @@ fn room_lines(seed: u64) -> (Vec<ReplayLine>, FrontEndFigures) {
         let clock = Instant::now();
         let cloud = PointCloud::from_points(scan.points());
         let segmentation = pipeline.segment(&cloud);
-        let measurements: Vec<Vec<f64>> = pipeline
+        let kept: Vec<[f64; 3]> = pipeline
             .measurements(&cloud)
-            .iter()
+            .into_iter()
             .filter(|m| in_region(&model, m))
-            .map(|m| m.to_vec())
             .collect();
+        let measurements: Vec<Vec<f64>> = kept.iter().map(|m| m.to_vec()).collect();
         figures.frontend_s += clock.elapsed().as_secs_f64();
         let heads = heads(&scenario, &model, seed, t);
         score_objects(
@@ -135,17 +135,13 @@ fn room_lines(seed: u64) -> (Vec<ReplayLine>, FrontEndFigures) {
             &model,
             &mut figures,
         );
-        let centre_std = pipeline.config().objects.centre_std;
-        let covariances = measurements
-            .iter()
-            .map(|m| {
-                let covariance =
-                    measurement_covariance([m[0], m[1], m[2]], centre_std, model.noise_std);
-                covariance.iter().map(|row| row.to_vec()).collect()
-            })
-            .collect();
+        let covariances = pipeline.covariances(&kept, model.noise_std).map(|all| {
+            all.iter()
+                .map(|c| c.iter().map(|row| row.to_vec()).collect())
+                .collect()
+        });
         let mut set = MeasurementSet::new(descriptor.sensor.clone(), k, START + t, measurements);
-        set.covariances = Some(covariances);
+        set.covariances = covariances;
         timed.push((START + t, ReplayLine::Measurements(set)));
     }
     for k in 0..scenario.truth_count(LAST_S) {

@@ -6,7 +6,7 @@ use super::body_parts::drop_body_parts;
 use super::clustering::{euclidean_clusters, PointCluster};
 use super::config::{LidarConfig, SegmentationMethod};
 use super::error::LidarConfigError;
-use super::measurement::point_to_measurement;
+use super::measurement::{measurement_covariance, point_to_measurement};
 use super::objects::{detect_object, DetectedObject, GroundFrame};
 use super::people_split::split_people;
 use super::point_cloud::PointCloud;
@@ -132,6 +132,23 @@ impl LidarPipeline {
             .iter()
             .map(|object| point_to_measurement(object.centre))
             .collect()
+    }
+
+    /// The covariances `measurements` of this pipeline are published with, one each: the sensor's
+    /// `noise_std` plus the objects' own error `objects.centre_std` (see [`super::measurement_covariance`]);
+    /// `None` when that error is 0, which leaves the uncertainty to the descriptor's noise.
+    pub fn covariances(
+        &self,
+        measurements: &[[f64; 3]],
+        noise_std: [f64; 3],
+    ) -> Option<Vec<[[f64; 3]; 3]>> {
+        let centre_std = self.config.objects.centre_std;
+        (centre_std > 0.0).then(|| {
+            measurements
+                .iter()
+                .map(|&m| measurement_covariance(m, centre_std, noise_std))
+                .collect()
+        })
     }
 }
 
