@@ -1,9 +1,10 @@
 //! Dropping the pieces of a person that are not a person: a LIDAR looking down on people often sees
 //! part of a body apart from the rest, as its own segment — an arm or the legs beside the torso, the
-//! shoulder or hip a neighbour's body cuts off — and each such segment would report a second "head" on
-//! the person, half a metre or more below the real one. Two people's heads are never that close: people
-//! stand shoulder to shoulder at most, some 0.45 m from head to head, and a person half a metre shorter
-//! than the one beside them stands no closer. So an object whose top is `part_drop` or more below
+//! shoulder or hip a neighbour's body cuts off, a shoulder the range image parts from its head — and each
+//! such segment would report a second "head" on the person, a quarter of a metre (a shoulder) to a metre
+//! below the real one. Two people's heads are never that close: people stand shoulder to shoulder at
+//! most, some 0.45 m from head to head, and a person half a metre shorter than the one beside them stands
+//! no closer. So an object whose top is `part_drop` or more below
 //! another's and whose reported point lies within `part_reach` of it horizontally is taken for part of
 //! that person and dropped.
 

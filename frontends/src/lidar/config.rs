@@ -38,7 +38,7 @@ pub enum SegmentationMethod {
 /// max_rings = 256              # more rings: no ring structure, Euclidean clustering instead
 /// azimuth_step_deg = 0.2
 /// max_gap_cells = 2
-/// max_range_jump = 0.25        # metres
+/// max_range_jump = 0.2         # metres
 /// min_points = 4
 /// max_points = 20000
 ///

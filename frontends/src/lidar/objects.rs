@@ -41,7 +41,7 @@ pub enum Estimate {
 /// split_width = 0.6         # metres: wider segments may be several people side by side
 /// person_spacing = 0.3      # metres: two head tops at least this far apart are two people
 /// part_reach = 0.45         # metres: a lower object nearer a taller one than this is part of its person…
-/// part_drop = 0.3           # metres: …when its top is at least this much lower
+/// part_drop = 0.25          # metres: …when its top is at least this much lower
 /// centre_std = 0.05         # metres: a reported point's typical error
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -76,7 +76,9 @@ pub struct ObjectConfig {
     /// seen as its own segment) and is not reported. 0.45 m: about the distance between the heads of two
     /// people shoulder to shoulder. 0 turns it off.
     pub part_reach: f64,
-    /// See `part_reach`. 0.3 m: more than two standing people's heights usually differ at that distance.
+    /// See `part_reach`. 0.25 m: a shoulder or arm seen apart from its head tops out 0.25–0.35 m below the
+    /// head's top (on the rendered room), more than two adults standing side by side usually differ. A child
+    /// close beside an adult is taken for a part: lower `part_reach` for such scenes.
     pub part_drop: f64,
     /// How far a reported point typically lies from the object's true one, metres (a standard deviation in
     /// each direction); 0 leaves the measurements' uncertainty to the descriptor's `noise_std` alone.
@@ -101,7 +103,7 @@ impl Default for ObjectConfig {
             split_width: 0.6,
             person_spacing: 0.3,
             part_reach: 0.45,
-            part_drop: 0.3,
+            part_drop: 0.25,
             centre_std: 0.05,
         }
     }

@@ -35,7 +35,11 @@ pub struct RangeImageConfig {
     pub max_gap_cells: usize,
     /// Neighbouring returns belong to one object when their ranges differ by at most this (metres); the grid
     /// makes the lateral spacing follow the beam spacing at every range, so only depth needs a tolerance.
-    /// Default 0.25 m: the depth variation across a person's visible surface between neighbouring rays.
+    /// Default 0.2 m: the depth variation across a person's visible surface between neighbouring rays. Why
+    /// not more: a LIDAR on the ceiling sees the back of a person who stands 0.3–0.4 m from a wall 0.2–0.25 m
+    /// nearer than the wall just beyond, and with 0.25 m the person joined the wall's segment, too large to
+    /// be an object (on the rendered room 94–98 % of heads were found, 98–99 % with 0.2 m). The shoulder
+    /// that 0.2 m sometimes cuts off a head is dropped as a body part (`objects.part_drop`).
     pub max_range_jump: f64,
     /// Smaller segments are noise. Default 4 points: a person 25 m from a VLP-16 is one ring of about five.
     pub min_points: usize,
@@ -51,7 +55,7 @@ impl Default for RangeImageConfig {
             max_rings: 256,
             azimuth_step_deg: 0.2,
             max_gap_cells: 2,
-            max_range_jump: 0.25,
+            max_range_jump: 0.2,
             min_points: 4,
             max_points: 20_000,
         }
