@@ -256,18 +256,25 @@ fn figures(tracks: &[TrackSet], truth: &[TruthSet], talkers: &[Talker]) -> (f64,
     (sum / n.max(1) as f64, right as f64 / n.max(1) as f64, n)
 }
 
+/// Replays `input` with the talkers' configuration, prints its figures under `what` and returns
+/// the mean OSPA(x, y) and the share of sets with the right count (see [`figures`]).
+fn replayed_figures(input: &[u8], talkers: &[Talker], what: &str) -> (f64, f64) {
+    let report = replay(talker_config(), input, std::io::sink()).unwrap();
+    assert_eq!(report.bad_lines, 0);
+    let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, talkers);
+    println!(
+        "{what}: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
+        100.0 * right
+    );
+    (ospa_xy, right)
+}
+
 #[test]
 fn two_talkers_are_tracked_from_the_rendered_audio() {
     let scenario = two_talker_room();
     for seed in [1, 2, 3] {
         let (input, talkers) = replay_file(&scenario, seed, false);
-        let report = replay(talker_config(), input.as_slice(), std::io::sink()).unwrap();
-        assert_eq!(report.bad_lines, 0);
-        let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, &talkers);
-        println!(
-            "seed {seed}: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
-            100.0 * right
-        );
+        let (ospa_xy, right) = replayed_figures(&input, &talkers, &format!("seed {seed}"));
         // Floors under today's figures (0.56-0.61 m, 38-53 %; 0.63-0.72 m and 31-48 % with the
         // default configuration before labels became Bernoulli), far from the goal of 0.25 m and
         // 80 %: they catch a chain gone worse. Exact TDOAs in place of the front end's give
@@ -295,12 +302,10 @@ fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
             .map(|spec| exact_lines(&scenario, spec, seed, &rendered.talkers))
             .collect();
         let input = merged(&scenario, seed, pairs);
-        let report = replay(talker_config(), input.as_slice(), std::io::sink()).unwrap();
-        assert_eq!(report.bad_lines, 0);
-        let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, &rendered.talkers);
-        println!(
-            "seed {seed}, exact TDOAs: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
-            100.0 * right
+        let (ospa_xy, right) = replayed_figures(
+            &input,
+            &rendered.talkers,
+            &format!("seed {seed}, exact TDOAs"),
         );
         // Floors under today's figures (0.16-0.24 m, 77-90 %). Before the pauses were modelled and
         // labels were Bernoulli, 0.43-0.51 m and 16-37 %: each set without a silent talker counted
@@ -335,12 +340,10 @@ fn the_front_ends_misses_and_its_clutter_each_alone() {
                 .map(|(spec, lines)| split_lines(&scenario, spec, seed, &talkers, lines, true_part))
                 .collect();
             let input = merged(&scenario, seed, pairs);
-            let report = replay(talker_config(), input.as_slice(), std::io::sink()).unwrap();
-            assert_eq!(report.bad_lines, 0);
-            let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, &talkers);
-            println!(
-                "seed {seed}, {what} of the front end: {n} track sets while someone talks after {SETTLED_S} s: mean OSPA(x, y) {ospa_xy:.3} m, count right {:.0} %",
-                100.0 * right
+            let (ospa_xy, _) = replayed_figures(
+                &input,
+                &talkers,
+                &format!("seed {seed}, {what} of the front end"),
             );
             // A ceiling over today's figures: the TDOAs a talker explains alone 0.50-0.60 m and
             // 19-27 % (a talker heard in half the frames, against the descriptor's p_D of 0.7:
