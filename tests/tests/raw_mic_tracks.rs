@@ -98,9 +98,13 @@ fn agent_lines(
     (lines, rendered.talkers)
 }
 
-/// The replay file: the simulator's truth and each pair's agent output, merged in stamp order.
-/// Also returns every talker's spurts, shared by all pairs.
-fn replay_file(scenario: &Scenario, seed: u64, keep_descriptor: bool) -> (Vec<u8>, Vec<Talker>) {
+/// Every pair's agent lines (in the scenario's order of its sensors), and every talker's spurts,
+/// shared by all pairs.
+fn all_agent_lines(
+    scenario: &Scenario,
+    seed: u64,
+    keep_descriptor: bool,
+) -> (Vec<Vec<ReplayLine>>, Vec<Talker>) {
     let dir = tempfile::tempdir().unwrap();
     let mut talkers = Vec::new();
     let mut pairs = Vec::new();
@@ -109,6 +113,13 @@ fn replay_file(scenario: &Scenario, seed: u64, keep_descriptor: bool) -> (Vec<u8
         pairs.push(lines);
         talkers = heard;
     }
+    (pairs, talkers)
+}
+
+/// The replay file: the simulator's truth and each pair's agent output, merged in stamp order.
+/// Also returns every talker's spurts, shared by all pairs.
+fn replay_file(scenario: &Scenario, seed: u64, keep_descriptor: bool) -> (Vec<u8>, Vec<Talker>) {
+    let (pairs, talkers) = all_agent_lines(scenario, seed, keep_descriptor);
     (merged(scenario, seed, pairs), talkers)
 }
 
@@ -322,21 +333,16 @@ fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
 #[test]
 fn the_front_ends_misses_and_its_clutter_each_alone() {
     let scenario = two_talker_room();
-    let dir = tempfile::tempdir().unwrap();
     for seed in [1, 2, 3] {
-        let mut talkers = Vec::new();
-        let mut agents = Vec::new();
-        for spec in &scenario.sensors {
-            let (lines, heard) = agent_lines(&scenario, spec, seed, false, dir.path());
-            agents.push((spec, lines));
-            talkers = heard;
-        }
+        let (agents, talkers) = all_agent_lines(&scenario, seed, false);
         for (true_part, what) in [
             (true, "the TDOAs a talker explains"),
             (false, "the exact TDOAs and the clutter"),
         ] {
-            let pairs = agents
+            let pairs = scenario
+                .sensors
                 .iter()
+                .zip(&agents)
                 .map(|(spec, lines)| split_lines(&scenario, spec, seed, &talkers, lines, true_part))
                 .collect();
             let input = merged(&scenario, seed, pairs);
