@@ -99,24 +99,12 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
             .collect::<Vec<_>>()
             .into_iter(),
     };
-    Ok(log_only(Prepared::single_sensor(
+    Ok(Prepared::single_sensor(
         Box::new(source),
         descriptor,
         start,
         start,
-    )))
-}
-
-/// A pair's run whose measured figures are logged, not announced. Why: the fusion's weights rest on the
-/// pair's given figures; announcing what the front end actually emits (on the rendered two-talker room
-/// p_D 0.3–0.6 and 2.0–2.6 false TDOAs a set, against the room's 0.7 and 1) worsened the tracks from
-/// 0.63–0.72 m to 0.73 m mean OSPA(x, y) and the count right from 31–48 % to 7 %: with a talker heard in
-/// under half of the sets, no label's weight stays above the confirmation threshold. With the server
-/// configured for talkers (pauses modelled, Bernoulli labels) p_D 0.5 and 2.4 false TDOAs a set give
-/// 0.46–0.61 m and 22–61 % against the given figures' 0.56–0.61 m and 38–53 %: no better either.
-fn log_only(mut prepared: Prepared) -> Prepared {
-    prepared.announce_calibration = false;
-    prepared
+    ))
 }
 
 /// `--wav -`: the stream on stdin, stamped on arrival.
@@ -141,12 +129,12 @@ fn live_prepared(
     descriptor: protocol::SensorDescriptor,
 ) -> Result<Prepared, AgentError> {
     let origin = source.origin_wall();
-    Ok(log_only(Prepared::single_sensor(
+    Ok(Prepared::single_sensor(
         Box::new(source),
         descriptor,
         origin,
         origin,
-    )))
+    ))
 }
 
 /// The front end's configuration: the TOML file, or the defaults with the descriptor's baseline and speed

@@ -286,13 +286,13 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
     for seed in [1, 2, 3] {
         let (input, talkers) = replay_file(&scenario, seed, false);
         let (ospa_xy, right) = replayed_figures(&input, &talkers, &format!("seed {seed}"));
-        // Floors under today's figures (0.56-0.61 m, 38-53 %; 0.63-0.72 m and 31-48 % with the
-        // default configuration before labels became Bernoulli), far from the goal of 0.25 m and
-        // 80 %: they catch a chain gone worse. Exact TDOAs in place of the front end's give
-        // 0.16-0.24 m and 77-90 % (the test below): what is left is the front end's, which emits
-        // up to five peaks a frame, most of them reverberation next to a talker's direct path.
-        assert!(ospa_xy <= 0.65, "mean OSPA(x, y) {ospa_xy:.3} m");
-        assert!(right >= 0.3, "count right in {:.0} %", 100.0 * right);
+        // Floors under today's figures (0.50-0.57 m, 54-62 %; 0.56-0.61 m and 38-53 % before the
+        // front end pooled its frames and the agent announced what it measures), far from the goal
+        // of 0.25 m and 80 %: they catch a chain gone worse. Exact TDOAs in place of the front
+        // end's give 0.16-0.24 m and 77-90 % (the test below): what is left is the front end's,
+        // about three peaks a frame, two of them reverberation next to a talker's direct path.
+        assert!(ospa_xy <= 0.62, "mean OSPA(x, y) {ospa_xy:.3} m");
+        assert!(right >= 0.45, "count right in {:.0} %", 100.0 * right);
     }
 }
 
@@ -351,11 +351,10 @@ fn the_front_ends_misses_and_its_clutter_each_alone() {
                 &talkers,
                 &format!("seed {seed}, {what} of the front end"),
             );
-            // A ceiling over today's figures: the TDOAs a talker explains alone 0.50-0.60 m and
-            // 19-27 % (a talker heard in half the frames, against the descriptor's p_D of 0.7:
-            // one track jumps from talker to talker), the exact TDOAs with the clutter
-            // 0.44-0.49 m and 23-35 %. Either half of what the front end gets wrong costs most of
-            // the goal on its own.
+            // A ceiling over today's figures: the TDOAs a talker explains alone 0.46-0.54 m and
+            // 13-38 % (a talker heard in about half the frames: one track jumps from talker to
+            // talker), the exact TDOAs with the clutter 0.39-0.48 m and 56-67 %. Either half of
+            // what the front end gets wrong costs most of the goal on its own.
             assert!(ospa_xy <= 0.65, "mean OSPA(x, y) {ospa_xy:.3} m");
         }
     }

@@ -82,6 +82,22 @@ pub struct MicPairConfig {
     /// direct paths are among the two strongest peaks half as often again as with PHAT.
     #[serde(default = "default_segment_duration")]
     pub segment_duration: f64,
+    /// Time constant in seconds over which each frame's correlation is pooled with the earlier frames'
+    /// (`pooling.rs`): a frame's correlation is added to the earlier frames' sum, which keeps `exp(−hop /
+    /// pooling_time_constant)` of its weight at each frame; the peaks are picked on the pooled correlation.
+    /// 0 picks them on each frame alone. Default 0.6 (0.65 kept per 256 ms frame). Why: in a reverberant room
+    /// the direct path persists from frame to frame and the reverberant peaks do not. On the rendered default
+    /// room (two talkers, T60 0.3 s, SNR 20 dB, seven seeds) the fused tracks' count is right in 54 % of the
+    /// talking frames instead of 42 %, OSPA(x, y) 0.54 m instead of 0.57 m. Longer memories (1–1.5 s) do as
+    /// well there but bury a talker who starts while another has been talking for a while; 0.25 s gains
+    /// nothing.
+    #[serde(default = "default_pooling_time_constant")]
+    pub pooling_time_constant: f64,
+    /// Fastest change of a talker's TDOA the pooling follows, in seconds of TDOA per second. Default 2.5e-4
+    /// (one sample per 256 ms frame at 16 kHz): a talker 1.5 m in front of a 0.5 m pair who walks across at
+    /// 0.3 m/s. Twice as much spreads each peak over more lags and pools worse on the rendered room.
+    #[serde(default = "default_max_tdoa_rate")]
+    pub max_tdoa_rate: f64,
 }
 
 fn default_speed_of_sound() -> f64 {
@@ -115,6 +131,14 @@ fn default_segment_duration() -> f64 {
     0.064
 }
 
+fn default_pooling_time_constant() -> f64 {
+    0.6
+}
+
+fn default_max_tdoa_rate() -> f64 {
+    2.5e-4
+}
+
 impl MicPairConfig {
     /// The documented defaults for a pair of microphones `mic_distance` metres apart.
     pub fn new(mic_distance: f64) -> Self {
@@ -132,6 +156,8 @@ impl MicPairConfig {
             median_gate: default_median_gate(),
             min_spectral_contrast: default_min_spectral_contrast(),
             segment_duration: default_segment_duration(),
+            pooling_time_constant: default_pooling_time_constant(),
+            max_tdoa_rate: default_max_tdoa_rate(),
         }
     }
 
@@ -171,6 +197,8 @@ impl MicPairConfig {
         non_negative("median_gate", self.median_gate)?;
         non_negative("min_spectral_contrast", self.min_spectral_contrast)?;
         non_negative("segment_duration", self.segment_duration)?;
+        non_negative("pooling_time_constant", self.pooling_time_constant)?;
+        non_negative("max_tdoa_rate", self.max_tdoa_rate)?;
         if self.segment_duration > self.frame_duration {
             return Err(invalid(
                 "segment_duration",

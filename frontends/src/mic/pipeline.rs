@@ -1,4 +1,5 @@
-//! The microphone-pair pipeline: audio → frames → GCC-PHAT → the K strongest in-range peaks as TDOAs.
+//! The microphone-pair pipeline: audio → frames → GCC-PHAT → pooled with the earlier frames' → the K strongest
+//! in-range peaks as TDOAs.
 
 use super::audio::StereoAudio;
 use super::config::MicPairConfig;
@@ -7,6 +8,7 @@ use super::frame_assembler::FrameAssembler;
 use super::framing::FrameLayout;
 use super::gcc_phat::{GccPhat, GccPhatSettings};
 use super::peaks::{strongest_peaks, RefinedPeak};
+use super::pooling::PooledCorrelation;
 
 /// Longest frame, in samples, a pipeline accepts (about 16 s at 16 kHz, 5.9 s at 44.1 kHz). The FFT buffers
 /// grow with it (times the interpolation factor), so a corrupt sample rate or duration must not be allowed to
@@ -42,6 +44,8 @@ pub struct MicPairPipeline {
     max_lag_samples: f64,
     refined: Vec<RefinedPeak>,
     peaks: Vec<TdoaPeak>,
+    /// Earlier frames' correlation, when pooling (`MicPairConfig::pooling_time_constant`).
+    pooled: Option<PooledCorrelation>,
 }
 
 impl MicPairPipeline {
@@ -78,7 +82,9 @@ impl MicPairPipeline {
             segment_len: (config.segment_duration > 0.0)
                 .then(|| (config.segment_duration * rate).round() as usize),
         })?;
+        let pooled = pooled_correlation(&config, layout, sample_rate);
         Ok(Self {
+            pooled,
             refined: Vec::with_capacity(config.max_peaks),
             peaks: Vec::with_capacity(config.max_peaks),
             config,
@@ -104,7 +110,8 @@ impl MicPairPipeline {
         self.layout
     }
 
-    /// The strongest peaks of one frame pair (each slice exactly `layout().frame_len()` samples long).
+    /// The strongest peaks of one frame pair (each slice exactly `layout().frame_len()` samples long), picked
+    /// on its correlation pooled with the earlier frames' when pooling is on, so frames must come in order.
     ///
     /// The returned slice lives in the pipeline and is overwritten by the next call.
     pub fn frame_peaks(&mut self, mic1: &[f64], mic2: &[f64]) -> Result<&[TdoaPeak], MicError> {
@@ -112,10 +119,17 @@ impl MicPairPipeline {
         self.peaks.clear();
         if window.spectral_contrast < self.config.min_spectral_contrast {
             // As flat as noise: no speech in this frame, so an empty set rather than noise maxima.
+            if let Some(pooled) = &mut self.pooled {
+                pooled.fade();
+            }
             return Ok(&self.peaks);
         }
+        let values = match &mut self.pooled {
+            Some(pooled) => pooled.add(window.values),
+            None => window.values,
+        };
         strongest_peaks(
-            window.values,
+            values,
             self.config.peak_threshold,
             self.config.max_peaks,
             &mut self.refined,
@@ -134,7 +148,8 @@ impl MicPairPipeline {
         Ok(&self.peaks)
     }
 
-    /// Every whole frame of `audio` as a TDOA set; `start_time` is the capture time of the first sample.
+    /// Every whole frame of `audio` as a TDOA set, `audio` taken as a signal of its own (earlier calls'
+    /// frames are not pooled with its); `start_time` is the capture time of the first sample.
     pub fn process(
         &mut self,
         audio: &StereoAudio,
@@ -149,6 +164,10 @@ impl MicPairPipeline {
         if !start_time.is_finite() {
             return Err(MicError::NonFiniteStartTime(start_time));
         }
+        // A new signal: nothing of the previous one's frames is pooled with its first frames.
+        if let Some(pooled) = &mut self.pooled {
+            pooled.clear();
+        }
         // The same assembler live streams use, so a file and a stream of the same samples give the same sets.
         let mut assembler = FrameAssembler::new(self.layout);
         assembler.push(audio.mic1(), audio.mic2())?;
@@ -162,4 +181,21 @@ impl MicPairPipeline {
         }
         Ok(frames)
     }
+}
+
+/// The pool of earlier frames' correlations `config` asks for, if any: its memory per hop, and how far (in
+/// points of the interpolated lag grid) a talker's peak may move in one hop.
+fn pooled_correlation(
+    config: &MicPairConfig,
+    layout: FrameLayout,
+    sample_rate: u32,
+) -> Option<PooledCorrelation> {
+    if config.pooling_time_constant <= 0.0 {
+        return None;
+    }
+    let hop_s = layout.hop() as f64 / f64::from(sample_rate);
+    let memory = (-hop_s / config.pooling_time_constant).exp();
+    let drift_samples = config.max_tdoa_rate * hop_s * f64::from(sample_rate);
+    let drift_points = (drift_samples * config.interpolation as f64).round() as usize;
+    Some(PooledCorrelation::new(memory, drift_points))
 }
