@@ -53,12 +53,11 @@ fn talker_config() -> ServerConfig {
 }
 
 /// One pair's rendered audio through the real `edge-agent mic-pair --wav` (its front end, and the
-/// descriptor it announces, refined from its own output unless `keep_descriptor`): its replay lines.
+/// descriptor it announces, refined from its own output): its replay lines.
 fn agent_lines(
     scenario: &Scenario,
     spec: &SensorSpec,
     seed: u64,
-    keep_descriptor: bool,
     dir: &Path,
 ) -> (Vec<ReplayLine>, Vec<Talker>) {
     let name = spec.sensor.as_str();
@@ -85,9 +84,6 @@ fn agent_lines(
         .args(["--start", &START.to_string(), "--output"])
         .arg(&output)
         .env("RUST_LOG", "warn");
-    if keep_descriptor {
-        command.arg("--keep-descriptor");
-    }
     let status = command.status().unwrap();
     assert!(status.success(), "edge-agent mic-pair failed for {name}");
     let lines = std::fs::read_to_string(&output)
@@ -100,16 +96,12 @@ fn agent_lines(
 
 /// Every pair's agent lines (in the scenario's order of its sensors), and every talker's spurts,
 /// shared by all pairs.
-fn all_agent_lines(
-    scenario: &Scenario,
-    seed: u64,
-    keep_descriptor: bool,
-) -> (Vec<Vec<ReplayLine>>, Vec<Talker>) {
+fn all_agent_lines(scenario: &Scenario, seed: u64) -> (Vec<Vec<ReplayLine>>, Vec<Talker>) {
     let dir = tempfile::tempdir().unwrap();
     let mut talkers = Vec::new();
     let mut pairs = Vec::new();
     for spec in &scenario.sensors {
-        let (lines, heard) = agent_lines(scenario, spec, seed, keep_descriptor, dir.path());
+        let (lines, heard) = agent_lines(scenario, spec, seed, dir.path());
         pairs.push(lines);
         talkers = heard;
     }
@@ -118,8 +110,8 @@ fn all_agent_lines(
 
 /// The replay file: the simulator's truth and each pair's agent output, merged in stamp order.
 /// Also returns every talker's spurts, shared by all pairs.
-fn replay_file(scenario: &Scenario, seed: u64, keep_descriptor: bool) -> (Vec<u8>, Vec<Talker>) {
-    let (pairs, talkers) = all_agent_lines(scenario, seed, keep_descriptor);
+fn replay_file(scenario: &Scenario, seed: u64) -> (Vec<u8>, Vec<Talker>) {
+    let (pairs, talkers) = all_agent_lines(scenario, seed);
     (merged(scenario, seed, pairs), talkers)
 }
 
@@ -284,7 +276,7 @@ fn replayed_figures(input: &[u8], talkers: &[Talker], what: &str) -> (f64, f64) 
 fn two_talkers_are_tracked_from_the_rendered_audio() {
     let scenario = two_talker_room();
     for seed in [1, 2, 3] {
-        let (input, talkers) = replay_file(&scenario, seed, false);
+        let (input, talkers) = replay_file(&scenario, seed);
         let (ospa_xy, right) = replayed_figures(&input, &talkers, &format!("seed {seed}"));
         // Floors under today's figures (0.50-0.57 m, 54-62 %; 0.56-0.61 m and 38-53 % before the
         // front end pooled its frames and the agent announced what it measures), far from the goal
@@ -334,7 +326,7 @@ fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
 fn the_front_ends_misses_and_its_clutter_each_alone() {
     let scenario = two_talker_room();
     for seed in [1, 2, 3] {
-        let (agents, talkers) = all_agent_lines(&scenario, seed, false);
+        let (agents, talkers) = all_agent_lines(&scenario, seed);
         for (true_part, what) in [
             (true, "the TDOAs a talker explains"),
             (false, "the exact TDOAs and the clutter"),
