@@ -105,6 +105,10 @@ impl Tracker {
             Some(model) => filter.with_activity(model)?,
             None => filter,
         };
+        let filter = match f.occlusion() {
+            Some(occlusion) => filter.with_occlusion(occlusion?),
+            None => filter,
+        };
         let filter = if f.label_existence {
             filter.with_label_existence()
         } else {

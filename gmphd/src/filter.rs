@@ -13,6 +13,7 @@ use crate::gaussian::{GaussianMixture, LabelSource};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
 use crate::newborn::separate_newborn_children;
+use crate::occlusion::Occlusion;
 use crate::predict::{predict_intensity, PredictionStep, Survival, SurvivalRegion};
 use crate::reduce::{Ancestry, Reducer};
 use crate::spawn::SpawnModel;
@@ -126,6 +127,14 @@ impl GmPhdFilter {
         model.validate()?;
         self.activity = Some(model);
         Ok(self)
+    }
+
+    /// Lowers p_D where a nearer object blocks a sensor's line of sight
+    /// ([`crate::occlusion`]): a person hidden behind another from a camera or a LIDAR is
+    /// not expected to be detected, so the hidden spell does not cost the track.
+    pub fn with_occlusion(mut self, occlusion: Occlusion) -> Self {
+        self.updater.set_occlusion(Some(occlusion));
+        self
     }
 
     /// Updates each label of at most one object's weight as a Bernoulli ([`crate::existence`]):

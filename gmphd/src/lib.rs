@@ -24,6 +24,7 @@ pub mod measurement;
 pub mod metrics;
 pub mod motion;
 mod newborn;
+pub mod occlusion;
 pub mod predict;
 pub mod reduce;
 pub mod reference;

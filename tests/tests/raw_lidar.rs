@@ -333,8 +333,9 @@ fn room_tracks_from_raw_lidar_scans() {
         100.0 * sum_right / 3.0,
         100.0 * worst_right
     );
-    // The goal: OSPA ≤ 0.15 m with the count right in ≥ 90 % of the sets. Today 0.050–0.057 m and
-    // 98.2–100 % (99.4 % over the seeds), against 0.04–0.05 m and 100 % for the LIDAR's simulated
+    // The goal: OSPA ≤ 0.15 m with the count right in ≥ 90 % of the sets. Today 0.050–0.066 m and
+    // 95.5–100 % (98.5 % over the seeds; 0.050–0.057 m and 99.4 % without the server's occlusion
+    // model), against 0.04–0.05 m and 100 % for the LIDAR's simulated
     // sets: the front end finds 98–99 % of heads with 0.01–0.03 extra objects per scan (a person's
     // shoulder, arm or legs seen as a segment of their own is dropped, `frontends/src/lidar/body_parts.rs`).
     // With a range jump of 0.25 m (and body parts dropped only 0.3 m below a head) a person who
@@ -593,10 +594,12 @@ fn outdoor_walkers_are_tracked_out_to_25_m() {
             "outdoor seed {seed}: four walkers at 5-25 m, mean OSPA(x, y) {ospa_xy:.3} m, count right {:.1} %",
             100.0 * right
         );
-        // Seeds 1-3: 0.044-0.046 m and 90.0-90.6 %. The wrong counts are one stretch of 1.7 s from
-        // 8 s on, in which walker 2 (13.4 m) hides walker 4 (21.8 m) on the same bearing from the
-        // sensor: no return of walker 4 exists, and its track ends and is born again.
+        // Seeds 1-3: 0.025-0.026 m and 100 %. From 8 s on walker 2 (13.4 m) hides walker 4
+        // (21.8 m) on the same bearing for 1.7 s: no return of walker 4 exists. The server's
+        // occlusion model (`filter.occlusion_radius_m`) expects no detection behind walker 2, so
+        // walker 4's track waits there; without it (0.040-0.042 m, 91.7-92.2 %) the track ended
+        // and was born again.
         assert!(ospa_xy <= 0.1, "mean OSPA(x, y) {ospa_xy:.3} m");
-        assert!(right >= 0.88, "count right in {:.1} %", 100.0 * right);
+        assert!(right >= 0.95, "count right in {:.1} %", 100.0 * right);
     }
 }

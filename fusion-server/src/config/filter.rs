@@ -1,5 +1,6 @@
 //! `[filter]`: the GM-PHD filter's motion model, birth, survival and mixture reduction.
 
+use gmphd::occlusion::Occlusion;
 use gmphd::ActivityModel;
 use serde::Deserialize;
 
@@ -100,6 +101,12 @@ pub struct FilterConfig {
     /// labelled multi-Bernoulli filter) rather than the PHD's: a track the filter was sure of
     /// outlasts a run of misses, and a detected label keeps no missed-detection weight on top.
     pub label_existence: bool,
+    /// Half-width in metres of what blocks a camera's or a LIDAR's view: a person within
+    /// twice this of the line of sight to another, and nearer, hides the other, whose p_D
+    /// for that sensor is lowered accordingly (`gmphd::occlusion`), so that a spell behind
+    /// someone does not cost the hidden person's track. 0 turns it off. Default 0.25 (about
+    /// half a person's shoulder width).
+    pub occlusion_radius_m: f64,
 }
 
 impl Default for FilterConfig {
@@ -128,6 +135,7 @@ impl Default for FilterConfig {
             mean_talk_s: ActivityModel::default().mean_active_s,
             mean_pause_s: ActivityModel::default().mean_inactive_s,
             label_existence: true,
+            occlusion_radius_m: 0.25,
         }
     }
 }
@@ -186,7 +194,18 @@ impl FilterConfig {
         }
         positive("filter.mean_talk_s", self.mean_talk_s)?;
         positive("filter.mean_pause_s", self.mean_pause_s)?;
+        if !(self.occlusion_radius_m.is_finite() && self.occlusion_radius_m >= 0.0) {
+            return Err(invalid(
+                "filter.occlusion_radius_m",
+                format!("{}: must be a finite number >= 0", self.occlusion_radius_m),
+            ));
+        }
         positive("filter.extraction_threshold", self.extraction_threshold)
+    }
+
+    /// The occlusion model, when `occlusion_radius_m` is positive.
+    pub fn occlusion(&self) -> Option<Result<Occlusion, gmphd::FilterError>> {
+        (self.occlusion_radius_m > 0.0).then(|| Occlusion::new(self.occlusion_radius_m))
     }
 
     /// The talkers' activity chain, when `speech_activity` is on.

@@ -72,6 +72,10 @@ impl MeasurementModel for BearingRange {
         self.noise_cov.clone()
     }
 
+    fn line_of_sight_origin(&self) -> Option<Vector3<f64>> {
+        Some(self.position)
+    }
+
     fn detection_probability(&self, p: &Vector3<f64>) -> f64 {
         let range = (p.x - self.position.x).hypot(p.y - self.position.y);
         if range <= self.max_range {

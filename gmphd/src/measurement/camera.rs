@@ -92,6 +92,14 @@ impl MeasurementModel for PinholeCamera {
         self.noise_cov.clone()
     }
 
+    fn line_of_sight_origin(&self) -> Option<Vector3<f64>> {
+        // The camera centre C solves P · [C; 1] = 0: C = −M⁻¹ p₄ (M the left 3×3 block,
+        // invertible by construction).
+        let m = self.projection.fixed_view::<3, 3>(0, 0).into_owned();
+        let p4 = self.projection.column(3).into_owned();
+        m.try_inverse().map(|inverse| -(inverse * p4))
+    }
+
     fn detection_probability(&self, p: &Vector3<f64>) -> f64 {
         if self.depth(p) <= 0.0 {
             return 0.0;
@@ -168,6 +176,15 @@ mod tests {
             0.0
         );
         assert!((cam.clutter_density() - 1.0 / (640.0 * 480.0)).abs() < 1e-18);
+    }
+
+    #[test]
+    fn sees_from_its_centre() {
+        let centre = camera().line_of_sight_origin().unwrap();
+        assert!(
+            (centre - Vector3::new(-0.3, -0.225, 2.0)).norm() < 1e-12,
+            "{centre}"
+        );
     }
 
     #[test]

@@ -95,6 +95,10 @@ impl MeasurementModel for Lidar {
         self.noise_cov.clone()
     }
 
+    fn line_of_sight_origin(&self) -> Option<Vector3<f64>> {
+        Some(self.position)
+    }
+
     fn detection_probability(&self, p: &Vector3<f64>) -> f64 {
         // Range and elevation as `measure_into` computes them (the azimuth does not matter).
         let s = self.to_sensor_frame(p);

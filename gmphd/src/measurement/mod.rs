@@ -125,6 +125,13 @@ pub trait MeasurementModel: Send + Sync + Debug {
     /// of range.
     fn detection_probability(&self, p: &Vector3<f64>) -> f64;
 
+    /// Where the sensor sees from, for a sensor whose view of an object a nearer one can
+    /// block (a camera's centre, a LIDAR's or a radar's position; see [`crate::occlusion`]).
+    /// `None` by default: nothing blocks the sensor (a microphone pair hears around people).
+    fn line_of_sight_origin(&self) -> Option<Vector3<f64>> {
+        None
+    }
+
     /// Whether the sensor detects an object only while it is active (a microphone pair hears
     /// a talker only while the talker talks; see [`crate::activity`]). False by default: the
     /// sensor sees an object whatever it does.

@@ -15,6 +15,7 @@ use crate::gating::Gating;
 use crate::gaussian::{Gaussian, GaussianMixture};
 use crate::measurement::{Measurement, MeasurementModel};
 use crate::motion::MotionModel;
+use crate::occlusion::{Blockers, Occlusion};
 use crate::ukf::UnscentedParams;
 
 /// The GM-PHD update of one filter (see the module documentation for the algorithm and
@@ -40,6 +41,8 @@ pub struct Updater {
     projections: BirthProjections,
     /// Indices of the static births in the next prior (empty: none, or not known).
     static_births: Range<usize>,
+    /// How nearer objects lower p_D behind them, when modelled.
+    occlusion: Option<Occlusion>,
 }
 
 /// The serial path's buffers (not part of the updater's debug output).
@@ -63,7 +66,14 @@ impl Updater {
             scratch: ScratchCell::default(),
             projections: BirthProjections::default(),
             static_births: 0..0,
+            occlusion: None,
         })
+    }
+
+    /// Lowers each component's p_D by the share of it that nearer objects hide from a
+    /// sensor with a line of sight ([`crate::occlusion`]).
+    pub fn set_occlusion(&mut self, occlusion: Option<Occlusion>) {
+        self.occlusion = occlusion;
     }
 
     /// The gating of component–measurement pairs.
@@ -147,7 +157,10 @@ impl Updater {
             sensor,
             unscented: &self.unscented,
         };
-        let (missed, seen) = split_by_detection(predicted, &step);
+        let blockers = self
+            .occlusion
+            .and_then(|occlusion| occlusion.blockers(predicted, motion, sensor));
+        let (missed, seen) = split_by_detection(predicted, &step, blockers.as_ref());
         let mut children = first(&missed);
         let first_child = children.len();
         let hints = sensor.update_hints();
@@ -208,18 +221,24 @@ impl Updater {
 /// The missed-detection weights ((1 − p_D) w) of the components of `predicted`, and those
 /// the sensor can detect (index, component, log(p_D w)); components of zero weight are in
 /// neither. For a sensor that detects only active objects p_D is scaled by the component's
-/// activity, and a miss lowers the activity ([`crate::activity`]).
+/// activity, and a miss lowers the activity ([`crate::activity`]); with `blockers` it is
+/// scaled by the share of the component they leave in view ([`crate::occlusion`]).
 #[allow(clippy::type_complexity)]
 fn split_by_detection<'p>(
     predicted: &'p GaussianMixture,
     step: &UpdateStep<'_>,
+    blockers: Option<&Blockers>,
 ) -> (Vec<Missed>, Vec<(usize, &'p Gaussian, f64)>) {
     let mut missed = Vec::with_capacity(predicted.len());
     let mut seen = Vec::with_capacity(predicted.len());
     let mut point = DVector::zeros(0);
     let only_active = step.sensor.detects_only_active();
     for (index, component) in predicted.iter().enumerate().filter(|(_, c)| c.weight > 0.0) {
-        let p_seen = detection_probability(component, step, &mut point);
+        let mut p_seen = detection_probability(component, step, &mut point);
+        if let Some(blockers) = blockers.filter(|_| p_seen > 0.0) {
+            let position = step.motion.position(&component.mean);
+            p_seen *= blockers.visible_share(component.label, &position);
+        }
         let (p_d, activity) = if only_active {
             let a = component.activity;
             (p_seen * a, activity::after_miss(a, p_seen))
