@@ -271,6 +271,18 @@ pub(crate) fn positive(key: &str, value: f64) -> Result<(), ConfigError> {
     }
 }
 
+/// `value` is a finite number ≥ 0 (0 usually turns the feature off).
+pub(crate) fn non_negative(key: &str, value: f64) -> Result<(), ConfigError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            key,
+            format!("{value}: must be a finite number >= 0"),
+        ))
+    }
+}
+
 pub(crate) fn probability(key: &str, value: f64) -> Result<(), ConfigError> {
     if value > 0.0 && value <= 1.0 {
         Ok(())

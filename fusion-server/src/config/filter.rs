@@ -4,7 +4,7 @@ use gmphd::occlusion::Occlusion;
 use gmphd::ActivityModel;
 use serde::Deserialize;
 
-use super::{invalid, positive, probability, ConfigError};
+use super::{invalid, non_negative, positive, probability, ConfigError};
 
 /// `filter.motion`: how an object's state evolves between two sets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -146,12 +146,7 @@ impl FilterConfig {
         positive("filter.accel_noise_std", self.accel_noise_std)?;
         positive("filter.position_noise_std", self.position_noise_std)?;
         probability("filter.survival_probability", self.survival_probability)?;
-        if !(self.survival_margin_m.is_finite() && self.survival_margin_m >= 0.0) {
-            return Err(invalid(
-                "filter.survival_margin_m",
-                format!("{}: must be a finite number >= 0", self.survival_margin_m),
-            ));
-        }
+        non_negative("filter.survival_margin_m", self.survival_margin_m)?;
         match self.birth {
             BirthKind::Grid if self.birth_grid.contains(&0) => {
                 return Err(invalid(
@@ -176,12 +171,7 @@ impl FilterConfig {
         positive("filter.birth_rate", self.birth_rate)?;
         positive("filter.birth_position_std", self.birth_position_std)?;
         positive("filter.birth_velocity_std", self.birth_velocity_std)?;
-        if !(self.birth_interval_s.is_finite() && self.birth_interval_s >= 0.0) {
-            return Err(invalid(
-                "filter.birth_interval_s",
-                format!("{}: must be a finite number >= 0", self.birth_interval_s),
-            ));
-        }
+        non_negative("filter.birth_interval_s", self.birth_interval_s)?;
         positive("filter.adaptive_birth_rate", self.adaptive_birth_rate)?;
         positive(
             "filter.adaptive_birth_velocity_std",
@@ -194,12 +184,7 @@ impl FilterConfig {
         }
         positive("filter.mean_talk_s", self.mean_talk_s)?;
         positive("filter.mean_pause_s", self.mean_pause_s)?;
-        if !(self.occlusion_radius_m.is_finite() && self.occlusion_radius_m >= 0.0) {
-            return Err(invalid(
-                "filter.occlusion_radius_m",
-                format!("{}: must be a finite number >= 0", self.occlusion_radius_m),
-            ));
-        }
+        non_negative("filter.occlusion_radius_m", self.occlusion_radius_m)?;
         positive("filter.extraction_threshold", self.extraction_threshold)
     }
 

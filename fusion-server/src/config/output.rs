@@ -2,7 +2,7 @@
 
 use serde::Deserialize;
 
-use super::{invalid, positive, ConfigError};
+use super::{non_negative, positive, ConfigError};
 
 /// `[output]`: publication of tracks.
 #[derive(Debug, Clone, Deserialize)]
@@ -33,12 +33,7 @@ impl Default for OutputConfig {
 impl OutputConfig {
     pub(super) fn validate(&self) -> Result<(), ConfigError> {
         positive("output.max_publish_hz", self.max_publish_hz)?;
-        if !(self.history_s.is_finite() && self.history_s >= 0.0) {
-            return Err(invalid(
-                "output.history_s",
-                format!("{}: must be a finite number >= 0", self.history_s),
-            ));
-        }
+        non_negative("output.history_s", self.history_s)?;
         Ok(())
     }
 }
