@@ -12,8 +12,10 @@ fn a_config_with_only_the_mic_distance_takes_the_documented_defaults() {
     assert_eq!(config.frame_duration, 0.256);
     assert_eq!(config.hop_duration, None);
     assert_eq!(config.interpolation, 8);
-    assert_eq!(config.max_peaks, 5);
+    assert_eq!(config.max_peaks, 4);
     assert_eq!(config.peak_threshold, 0.07);
+    assert_eq!(config.relative_peak_threshold, 0.6);
+    assert_eq!(config.pooling_time_constant, 0.0);
     assert_eq!(config.min_frequency, 100.0);
     assert_eq!(config.max_frequency, None);
     assert_eq!(config.median_gate, 2.0);
@@ -26,12 +28,14 @@ fn every_field_can_be_set_and_unknown_or_missing_fields_are_rejected() {
     let config: MicPairConfig = toml::from_str(
         "mic_distance = 0.3\nspeed_of_sound = 340.0\nframe_duration = 0.128\nhop_duration = 0.064\n\
          interpolation = 4\nmax_peaks = 2\npeak_threshold = 0.2\nmin_frequency = 300.0\n\
-         max_frequency = 4000.0\nphat_floor = 1e-6\nmedian_gate = 0.0\nmin_spectral_contrast = 0.0",
+         max_frequency = 4000.0\nphat_floor = 1e-6\nmedian_gate = 0.0\nmin_spectral_contrast = 0.0\n\
+         relative_peak_threshold = 0.5",
     )
     .unwrap();
     assert_eq!(config.hop_duration, Some(0.064));
     assert_eq!(config.max_frequency, Some(4000.0));
     assert_eq!(config.max_peaks, 2);
+    assert_eq!(config.relative_peak_threshold, 0.5);
     config.validate().unwrap();
 
     let misspelt = toml::from_str::<MicPairConfig>("mic_distance = 0.5\nmax_peak = 3").unwrap_err();
@@ -45,7 +49,7 @@ type Spoiler = fn(&mut MicPairConfig);
 
 #[test]
 fn out_of_range_values_are_rejected_with_the_field_named() {
-    let cases: [(&str, Spoiler); 8] = [
+    let cases: [(&str, Spoiler); 10] = [
         ("mic_distance", |c| c.mic_distance = 0.0),
         ("speed_of_sound", |c| c.speed_of_sound = f64::NAN),
         ("frame_duration", |c| c.frame_duration = -1.0),
@@ -54,6 +58,12 @@ fn out_of_range_values_are_rejected_with_the_field_named() {
         ("max_peaks", |c| c.max_peaks = 0),
         ("peak_threshold", |c| c.peak_threshold = -0.1),
         ("phat_floor", |c| c.phat_floor = 1.0),
+        ("relative_peak_threshold", |c| {
+            c.relative_peak_threshold = f64::NAN
+        }),
+        ("relative_peak_threshold", |c| {
+            c.relative_peak_threshold = 1.5
+        }),
     ];
     for (field, spoil) in cases {
         let mut config = MicPairConfig::new(0.5);

@@ -278,11 +278,11 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
     for seed in [1, 2, 3] {
         let (input, talkers) = replay_file(&scenario, seed);
         let (ospa_xy, right) = replayed_figures(&input, &talkers, &format!("seed {seed}"));
-        // Floors under today's figures (0.50-0.57 m, 54-62 %; 0.56-0.61 m and 38-53 % before the
-        // front end pooled its frames and the agent announced what it measures), far from the goal
-        // of 0.25 m and 80 %: they catch a chain gone worse. Exact TDOAs in place of the front
-        // end's give 0.16-0.24 m and 77-90 % (the test below): what is left is the front end's,
-        // about three peaks a frame, two of them reverberation next to a talker's direct path.
+        // Floors under today's figures (0.48-0.54 m, 55-78 %; 0.50-0.57 m and 54-62 % when the front end
+        // pooled its frames and reported five peaks, 0.56-0.61 m and 38-53 % before it pooled them and the
+        // agent announced what it measures), far from the goal of 0.25 m and 80 %: they catch a chain gone
+        // worse. Exact TDOAs in place of the front end's give 0.16-0.24 m and 77-90 % (the test below).
+        // Speech synthesized elsewhere (tools/speech_scene) gives 0.41 m and 68 % over nine scenes.
         assert!(ospa_xy <= 0.62, "mean OSPA(x, y) {ospa_xy:.3} m");
         assert!(right >= 0.45, "count right in {:.0} %", 100.0 * right);
     }
@@ -343,11 +343,11 @@ fn the_front_ends_misses_and_its_clutter_each_alone() {
                 &talkers,
                 &format!("seed {seed}, {what} of the front end"),
             );
-            // A ceiling over today's figures: the TDOAs a talker explains alone 0.46-0.54 m and
-            // 13-38 % (a talker heard in about half the frames: one track jumps from talker to
-            // talker), the exact TDOAs with the clutter 0.39-0.48 m and 56-67 %. Either half of
+            // A ceiling over today's figures: the TDOAs a talker explains alone 0.59-0.64 m and
+            // 0-19 % (a talker heard in fewer than half the frames: one track jumps from talker to
+            // talker), the exact TDOAs with the clutter 0.34-0.43 m and 57-69 %. Either half of
             // what the front end gets wrong costs most of the goal on its own.
-            assert!(ospa_xy <= 0.65, "mean OSPA(x, y) {ospa_xy:.3} m");
+            assert!(ospa_xy <= 0.7, "mean OSPA(x, y) {ospa_xy:.3} m");
         }
     }
 }

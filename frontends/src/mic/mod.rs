@@ -8,9 +8,9 @@
 //! Per frame ([`MicPairPipeline`]): Hann window, zero-padding, real FFT of both channels; a speech-presence check
 //! (spectral contrast, frames as flat as white noise give an empty set); the cross-spectrum `Y2 · conj(Y1)`
 //! with PHAT weighting, bins below a median-relative gate left out; inverse FFT of the cross-spectrum
-//! zero-padded by the interpolation factor; pooled with the earlier frames' correlations as far as a talker may
-//! drift (`pooling.rs`); the K highest local maxima above the threshold within
-//! ±(d/c + ½ sample), parabola-refined and clamped to ±d/c. FFT plans and buffers are made once per pipeline.
+//! zero-padded by the interpolation factor; optionally pooled with the earlier frames' correlations as far as a
+//! talker may drift (`pooling.rs`); the K highest local maxima above the threshold and above a share of the
+//! highest within ±(d/c + ½ sample), parabola-refined and clamped to ±d/c. FFT plans and buffers are made once per pipeline.
 //!
 //! Typical use: [`read_stereo_wav`] (or [`read_mono_pair`]) → [`MicPairPipeline::process`].
 

@@ -1,5 +1,5 @@
-//! The microphone-pair pipeline: audio → frames → GCC-PHAT → pooled with the earlier frames' → the K strongest
-//! in-range peaks as TDOAs.
+//! The microphone-pair pipeline: audio → frames → GCC-PHAT → (optionally pooled with the earlier frames') →
+//! the K strongest in-range peaks, those well below the strongest left out, as TDOAs.
 
 use super::audio::StereoAudio;
 use super::config::MicPairConfig;
@@ -134,6 +134,11 @@ impl MicPairPipeline {
             self.config.max_peaks,
             &mut self.refined,
         );
+        // Echo peaks well below the frame's strongest are clutter the fusion would have to explain.
+        if let Some(highest) = self.refined.first().map(|peak| peak.value) {
+            let floor = self.config.relative_peak_threshold * highest;
+            self.refined.retain(|peak| peak.value >= floor);
+        }
         let fine_step = 1.0 / window.interpolation as f64;
         let rate = f64::from(self.sample_rate);
         for peak in &self.refined {

@@ -1,0 +1,115 @@
+"""Runs a scene of make_scene.py through the real chain and scores it.
+
+Each pair's WAV goes through `edge-agent mic-pair --wav` (with the descriptor it was given, which the
+agent refines from its own output), the sets and the truth are merged in stamp order into a replay
+file, and `fusion-server replay` runs it with the scene's `server.toml`. The score: mean OSPA(x, y)
+(c = 1 m, p = 1) and the share of track sets with the right count, over the track sets after 6 s
+stamped while someone talks.
+
+    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE]
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+PAIRS = ["mics_s", "mics_e", "mics_n", "mics_w"]
+SETTLED_S = 6.0
+
+
+def arguments():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("scenes", nargs="+")
+    parser.add_argument("--bin", default="target/release", help="directory of edge-agent and fusion-server")
+    parser.add_argument("--frontend-config", help="mic front-end TOML given to every agent")
+    return parser.parse_args()
+
+
+def agent_lines(args, scene, start, work):
+    lines = []
+    for name in PAIRS:
+        output = f"{work}/{name}.jsonl"
+        command = [f"{args.bin}/edge-agent", "mic-pair", "--wav", f"{scene}/{name}.wav",
+                   "--descriptor", f"{scene}/{name}.json", "--start", str(start), "--output", output]
+        if args.frontend_config:
+            command += ["--frontend-config", args.frontend_config]
+        subprocess.run(command, check=True, env=dict(os.environ, RUST_LOG="error"))
+        with open(output) as f:
+            lines += [json.loads(line) for line in f]
+    return lines
+
+
+def stamp_of(line):
+    return next(iter(line.values())).get("stamp", -1.0)
+
+
+def ospa(truth, tracks):
+    """OSPA with c = 1 m, p = 1 between two point sets in the plane."""
+    m, n = len(truth), len(tracks)
+    if max(m, n) == 0:
+        return 0.0
+    if min(m, n) == 0:
+        return 1.0
+    d = np.minimum(np.linalg.norm(truth[:, None] - tracks[None], axis=2), 1.0)
+    rows, cols = linear_sum_assignment(d)
+    return (d[rows, cols].sum() + abs(m - n)) / max(m, n)
+
+
+def score(scene_dir, tracks_path, truth_lines):
+    with open(f"{scene_dir}/scene.json") as f:
+        scene = json.load(f)
+    start = scene["start"]
+    truth = {l["truth"]["stamp"] - start: l["truth"]["objects"] for l in truth_lines}
+    times = np.array(sorted(truth))
+    total, right, n = 0.0, 0, 0
+    with open(tracks_path) as f:
+        for line in f:
+            track_set = json.loads(line)
+            t = track_set["stamp"] - start
+            talking = any(a <= t < b for spurts in scene["spurts"] for a, b in spurts)
+            if t < SETTLED_S or not talking:
+                continue
+            objects = truth[times[np.argmin(np.abs(times - t))]]
+            x = np.array([o["position"][:2] for o in objects]).reshape(-1, 2)
+            y = np.array([o["position"][:2] for o in track_set["tracks"]]).reshape(-1, 2)
+            total += ospa(x, y)
+            right += len(x) == len(y)
+            n += 1
+    return total / max(n, 1), right / max(n, 1), n
+
+
+def run(args, scene):
+    with open(f"{scene}/scene.json") as f:
+        start = json.load(f)["start"]
+    with open(f"{scene}/truth.jsonl") as f:
+        truth_lines = [json.loads(line) for line in f]
+    with tempfile.TemporaryDirectory() as work:
+        lines = truth_lines + agent_lines(args, scene, start, work)
+        lines.sort(key=lambda l: (stamp_of(l), 0 if "truth" in l else 1))
+        with open(f"{work}/replay.jsonl", "w") as f:
+            f.writelines(json.dumps(l) + "\n" for l in lines)
+        subprocess.run([f"{args.bin}/fusion-server", "replay", "--config", f"{scene}/server.toml",
+                        "--input", f"{work}/replay.jsonl", "--output", f"{work}/tracks.jsonl"],
+                       check=True, capture_output=True, env=dict(os.environ, RUST_LOG="error"))
+        return score(scene, f"{work}/tracks.jsonl", truth_lines)
+
+
+def main():
+    args = arguments()
+    figures = []
+    for scene in args.scenes:
+        ospa_xy, right, n = run(args, scene)
+        figures.append((ospa_xy, right))
+        print(f"{scene}: {n} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, count right {100 * right:.1f} %")
+    if len(figures) > 1:
+        mean = np.mean(figures, axis=0)
+        print(f"mean over {len(figures)} scenes: OSPA(x, y) {mean[0]:.3f} m, count right {100 * mean[1]:.1f} %")
+
+
+if __name__ == "__main__":
+    main()
