@@ -199,3 +199,43 @@ fn noise_only_and_silent_frames_give_empty_sets() {
         assert!(frame.tdoas.is_empty());
     }
 }
+
+/// Two broadband sources at once, one at half the other's amplitude (a quarter of its power: its PHAT
+/// peak stands at 0.17 against 0.91): with every peak reported both are found; with the default
+/// `relative_peak_threshold` of 0.6 only the louder, as an echo of that strength would be.
+#[test]
+fn a_much_quieter_source_is_left_out_by_default() {
+    const LEN: usize = 8 * 4096;
+    let loud = white_noise(LEN, 11);
+    let quiet: Vec<f64> = white_noise(LEN, 12).iter().map(|v| 0.5 * v).collect();
+    // Mic 2 hears the loud source 8 samples after mic 1 (TDOA +8) and the quiet one 10 before (−10).
+    let sum = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
+        a.iter().zip(&b).map(|(x, y)| x + y).take(LEN).collect()
+    };
+    let mic1 = sum(delayed(&loud, 20.0), delayed(&quiet, 20.0));
+    let mic2 = sum(delayed(&loud, 28.0), delayed(&quiet, 10.0));
+    let audio = StereoAudio::new(SAMPLE_RATE, mic1, mic2).unwrap();
+    let found =
+        |tdoas: &[f64], samples: f64| tdoas.iter().any(|tau| (tau * RATE - samples).abs() <= 0.5);
+    for (relative_peak_threshold, quiet_expected) in [(0.0, true), (0.6, false)] {
+        let mut config = MicPairConfig::new(MIC_DISTANCE);
+        config.min_spectral_contrast = 0.0; // white noise is the signal here
+                                            // Whole-frame PHAT: there a peak's height follows its source's share of the power (the
+                                            // coherence weighting of a noise-free mix gives both sources nearly full height).
+        config.segment_duration = 0.0;
+        assert_eq!(
+            MicPairConfig::new(MIC_DISTANCE).relative_peak_threshold,
+            0.6
+        );
+        config.relative_peak_threshold = relative_peak_threshold;
+        let mut pipeline = MicPairPipeline::new(config, SAMPLE_RATE).unwrap();
+        let frames = pipeline.process(&audio, 0.0).unwrap();
+        assert_eq!(frames.len(), 8);
+        for frame in &frames {
+            let in_samples: Vec<f64> = frame.tdoas.iter().map(|tau| tau * RATE).collect();
+            println!("relative_peak_threshold {relative_peak_threshold}: {in_samples:.2?}");
+            assert!(found(&frame.tdoas, 8.0), "{in_samples:?}");
+            assert_eq!(found(&frame.tdoas, -10.0), quiet_expected, "{in_samples:?}");
+        }
+    }
+}

@@ -38,8 +38,8 @@ pub struct MicPairConfig {
     pub interpolation: usize,
     /// K: at most this many TDOAs per frame, the highest correlation peaks. Default 4: two talkers and the
     /// echo or ripple that sometimes outranks the quieter one's direct path; `relative_peak_threshold` keeps
-    /// the frames with one clear talker down to one or two. Measured with it (see there): 5 gives the same, 3
-    /// a little better on speech synthesized elsewhere and worse on the rendered room.
+    /// the frames with one clear talker down to one or two. With it (see there), 3 gives the count right in
+    /// 74 % on speech synthesized elsewhere and 52.5 % on the rendered room (seeds 1–3); 4 gives 68.5 and 69 %.
     #[serde(default = "default_max_peaks")]
     pub max_peaks: usize,
     /// Smallest normalised GCC-PHAT peak height that is reported (1 = the channels are exact delayed copies).
@@ -55,8 +55,8 @@ pub struct MicPairConfig {
     /// send about one TDOA a frame less. Measured on speech synthesized by espeak-ng through
     /// pyroomacoustics' image-source rooms (`tools/speech_scene/`: nine scenes, T60 0.3 s, SNR 20 dB):
     /// OSPA(x, y) 0.41 m and the count right in 68 % of the talking frames, against 0.55 m and 32 % with
-    /// pooling and five peaks; on the rendered default room (five seeds) 0.53 m and 61 % either way. 0.5 and
-    /// 0.7 do worse on both.
+    /// pooling and five peaks; on the rendered default room 0.52 m and 69 % against 0.54 m and 56.5 % (seeds
+    /// 1–3), 0.53 m and 61 % either way over seeds 1–5. With K = 3, 0.5 and 0.7 do worse than 0.6 on both.
     #[serde(default = "default_relative_peak_threshold")]
     pub relative_peak_threshold: f64,
     /// Lowest frequency in Hz used in the correlation. Default 100: below it speech has little energy and
