@@ -34,6 +34,7 @@ mod sim;
 #[cfg(feature = "sound-card")]
 mod sound_card;
 mod start_file;
+mod tdoa_noise;
 mod velodyne_input;
 mod video_input;
 mod video_reader;

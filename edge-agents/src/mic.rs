@@ -20,6 +20,7 @@ use crate::pacing::wall_clock;
 use crate::run::{Event, EventSource};
 use crate::settings::read_frontend_config;
 use crate::sim::prepare_simulated_sensor;
+use crate::tdoa_noise::TdoaNoise;
 
 /// Largest relative difference between the front end's `mic_distance` and the descriptor's baseline that
 /// passes without a warning.
@@ -52,6 +53,7 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
         return Err(AgentError::Usage("the descriptor is not a mic pair".into()));
     };
     let config = frontend_config(command.frontend_config.as_deref(), model)?;
+    let noise = TdoaNoise::new(model.noise_std, config.noise_by_peak_height);
     #[cfg(feature = "sound-card")]
     if let Some(device) = &command.sound_card {
         let device = (device != "default").then_some(device.as_str());
@@ -61,15 +63,25 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
             config,
             command.pipeline_delay_ms,
         )?;
-        return live_prepared(source, descriptor);
+        return live_prepared(source.with_noise(noise), descriptor);
     }
     if command
         .wav
         .as_deref()
         .is_some_and(|wav| wav.as_os_str() == "-")
     {
-        return prepare_live(command, config, descriptor);
+        return prepare_live(command, config, noise, descriptor);
     }
+    prepare_recording(command, config, noise, descriptor)
+}
+
+/// `--wav FILE` or `--left`/`--right`: the whole recording analysed up front.
+fn prepare_recording(
+    command: &MicPairCommand,
+    config: MicPairConfig,
+    noise: TdoaNoise,
+    descriptor: protocol::SensorDescriptor,
+) -> Result<Prepared, AgentError> {
     let audio =
         match (&command.wav, &command.left, &command.right) {
             (Some(wav), None, None) => read_stereo_wav(wav)?,
@@ -93,8 +105,8 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
             .into_iter()
             .map(|f| Frame {
                 stamp: f.stamp,
+                covariances: noise.covariances(&f.relative_variances),
                 measurements: f.tdoas.into_iter().map(|tau| vec![tau]).collect(),
-                covariances: None,
             })
             .collect::<Vec<_>>()
             .into_iter(),
@@ -111,6 +123,7 @@ pub fn prepare_mic_pair(command: &MicPairCommand) -> Result<Prepared, AgentError
 fn prepare_live(
     command: &MicPairCommand,
     config: MicPairConfig,
+    noise: TdoaNoise,
     descriptor: protocol::SensorDescriptor,
 ) -> Result<Prepared, AgentError> {
     if command.timing.start.is_some() {
@@ -120,7 +133,7 @@ fn prepare_live(
         ));
     }
     let source = LiveMic::start(std::io::stdin(), config, command.pipeline_delay_ms)?;
-    live_prepared(source, descriptor)
+    live_prepared(source.with_noise(noise), descriptor)
 }
 
 /// A live pair's run: its pacing origin is when its capture started.

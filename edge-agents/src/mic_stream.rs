@@ -15,13 +15,16 @@ use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError, SyncSender, TryS
 use std::sync::Arc;
 use std::time::Duration;
 
-use frontends::mic::{FrameAssembler, MicError, MicPairConfig, MicPairPipeline, WavStream};
+use frontends::mic::{
+    relative_variances, FrameAssembler, MicError, MicPairConfig, MicPairPipeline, WavStream,
+};
 
 use crate::capture_clock::CaptureClock;
 use crate::drop_report::DropReport;
 use crate::emit::Frame;
 use crate::error::AgentError;
 use crate::run::{Event, EventSource};
+use crate::tdoa_noise::TdoaNoise;
 use transport::Shutdown;
 
 /// Frames waiting for analysis before the reader drops new ones (at the default 256 ms, 4 s of audio).
@@ -54,6 +57,8 @@ pub struct LiveMic {
     drops: DropReport,
     analysed: u64,
     shutdown: Option<Shutdown>,
+    /// The covariances its TDOAs are sent with (`None`: the descriptor's noise for every one).
+    noise: Option<TdoaNoise>,
 }
 
 impl LiveMic {
@@ -98,7 +103,14 @@ impl LiveMic {
             drops,
             analysed: 0,
             shutdown: None,
+            noise: None,
         })
+    }
+
+    /// Sends each TDOA with the covariance `noise` gives it.
+    pub fn with_noise(mut self, noise: TdoaNoise) -> Self {
+        self.noise = Some(noise);
+        self
     }
 
     /// The host's Unix time at which the stream was opened (the run's pacing origin).
@@ -141,6 +153,9 @@ impl EventSource for LiveMic {
             Captured::Frame { stamp, mic1, mic2 } => {
                 let peaks = self.pipeline.frame_peaks(&mic1, &mic2)?;
                 let measurements = peaks.iter().map(|peak| vec![peak.tdoa]).collect();
+                let covariances = self
+                    .noise
+                    .and_then(|noise| noise.covariances(&relative_variances(peaks)));
                 self.analysed += 1;
                 self.report_drops(stamp);
                 Ok(Some(Event::Set {
@@ -148,7 +163,7 @@ impl EventSource for LiveMic {
                     frame: Frame {
                         stamp,
                         measurements,
-                        covariances: None,
+                        covariances,
                     },
                 }))
             }

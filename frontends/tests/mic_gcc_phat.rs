@@ -239,3 +239,37 @@ fn a_much_quieter_source_is_left_out_by_default() {
         }
     }
 }
+
+/// A weaker peak's TDOA is trusted less: the strongest peak of each frame keeps the descriptor's
+/// variance (factor 1) and the quieter source's gets Knapp & Carter's larger one.
+#[test]
+fn the_quieter_sources_tdoa_gets_the_wider_variance() {
+    const LEN: usize = 8 * 4096;
+    let loud = white_noise(LEN, 11);
+    let quiet: Vec<f64> = white_noise(LEN, 12).iter().map(|v| 0.5 * v).collect();
+    let sum = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
+        a.iter().zip(&b).map(|(x, y)| x + y).take(LEN).collect()
+    };
+    let mic1 = sum(delayed(&loud, 20.0), delayed(&quiet, 20.0));
+    let mic2 = sum(delayed(&loud, 28.0), delayed(&quiet, 10.0));
+    let audio = StereoAudio::new(SAMPLE_RATE, mic1, mic2).unwrap();
+    let mut config = MicPairConfig::new(MIC_DISTANCE);
+    config.min_spectral_contrast = 0.0;
+    config.segment_duration = 0.0;
+    config.relative_peak_threshold = 0.0;
+    let mut pipeline = MicPairPipeline::new(config, SAMPLE_RATE).unwrap();
+    for frame in pipeline.process(&audio, 0.0).unwrap() {
+        assert_eq!(frame.relative_variances.len(), frame.tdoas.len());
+        let factor_at = |samples: f64| {
+            let i = frame
+                .tdoas
+                .iter()
+                .position(|tau| (tau * RATE - samples).abs() <= 0.5)
+                .expect("both sources are reported");
+            frame.relative_variances[i]
+        };
+        println!("loud {:.2}, quiet {:.2}", factor_at(8.0), factor_at(-10.0));
+        assert_eq!(factor_at(8.0), 1.0);
+        assert!(factor_at(-10.0) > 1.5, "quiet {}", factor_at(-10.0));
+    }
+}

@@ -278,13 +278,15 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
     for seed in [1, 2, 3] {
         let (input, talkers) = replay_file(&scenario, seed);
         let (ospa_xy, right) = replayed_figures(&input, &talkers, &format!("seed {seed}"));
-        // Floors under today's figures (0.48-0.54 m, 55-78 %; 0.50-0.57 m and 54-62 % when the front end
-        // pooled its frames and reported five peaks, 0.56-0.61 m and 38-53 % before it pooled them and the
-        // agent announced what it measures), far from the goal of 0.25 m and 80 %: they catch a chain gone
-        // worse. Exact TDOAs in place of the front end's give 0.16-0.24 m and 77-90 % (the test below).
-        // Speech synthesized elsewhere (tools/speech_scene) gives 0.41 m and 68 % over nine scenes.
+        // Floors under today's figures (0.47-0.58 m, 41-76 %), far from the goal of 0.25 m and 80 %: they
+        // catch a chain gone worse. The pairs send each TDOA with a variance that grows as its peak is weaker
+        // than the frame's strongest (`noise_by_peak_height`); here, where a frame's strongest peak is a
+        // talker's direct path in only a quarter of the frames, that costs (0.48-0.54 m and 55-78 % without
+        // it), while on speech synthesized elsewhere (tools/speech_scene, 15 scenes) it takes the count
+        // right from 65.5 to 73 % and OSPA(x, y) from 0.43 to 0.415 m. Exact TDOAs in place of the front
+        // end's give 0.16-0.24 m and 77-90 % (the test below).
         assert!(ospa_xy <= 0.62, "mean OSPA(x, y) {ospa_xy:.3} m");
-        assert!(right >= 0.45, "count right in {:.0} %", 100.0 * right);
+        assert!(right >= 0.35, "count right in {:.0} %", 100.0 * right);
     }
 }
 

@@ -10,7 +10,9 @@
 //! with PHAT weighting, bins below a median-relative gate left out; inverse FFT of the cross-spectrum
 //! zero-padded by the interpolation factor; optionally pooled with the earlier frames' correlations as far as a
 //! talker may drift (`pooling.rs`); the K highest local maxima above the threshold and above a share of the
-//! highest within ±(d/c + ½ sample), parabola-refined and clamped to ±d/c. FFT plans and buffers are made once per pipeline.
+//! highest within ±(d/c + ½ sample), parabola-refined and clamped to ±d/c; each with its variance relative to
+//! the frame's strongest peak's, from Knapp & Carter's bound at the two heights (`peak_noise.rs`), which the
+//! agent turns into the covariance it sends with the TDOA. FFT plans and buffers are made once per pipeline.
 //!
 //! Typical use: [`read_stereo_wav`] (or [`read_mono_pair`]) → [`MicPairPipeline::process`].
 
@@ -23,6 +25,7 @@ mod error;
 mod frame_assembler;
 mod framing;
 mod gcc_phat;
+mod peak_noise;
 mod peaks;
 mod pipeline;
 mod pooling;
@@ -35,6 +38,7 @@ pub use error::MicError;
 pub use frame_assembler::FrameAssembler;
 pub use framing::{FrameLayout, FrameSpan};
 pub use gcc_phat::{GccPhat, GccPhatSettings, LagWindow, EDGE_MARGIN_SAMPLES};
+pub use peak_noise::relative_variances;
 pub use peaks::{strongest_peaks, RefinedPeak};
 pub use pipeline::{MicPairPipeline, TdoaFrame, TdoaPeak, MAX_FRAME_LEN};
 pub use wav::{read_mono_pair, read_stereo_wav};

@@ -7,6 +7,7 @@ use super::error::MicError;
 use super::frame_assembler::FrameAssembler;
 use super::framing::FrameLayout;
 use super::gcc_phat::{GccPhat, GccPhatSettings};
+use super::peak_noise::relative_variances;
 use super::peaks::{strongest_peaks, RefinedPeak};
 use super::pooling::PooledCorrelation;
 
@@ -24,6 +25,8 @@ pub struct TdoaFrame {
     /// source is closer to mic 1. Each lies in [−d/c, d/c]. Empty when the frame failed the speech-presence
     /// check or no peak passed the threshold.
     pub tdoas: Vec<f64>,
+    /// Each TDOA's variance relative to the frame's strongest peak's ([`relative_variances`]).
+    pub relative_variances: Vec<f64>,
 }
 
 /// One reported correlation peak.
@@ -182,6 +185,7 @@ impl MicPairPipeline {
             frames.push(TdoaFrame {
                 stamp: start_time + span.centre_time,
                 tdoas: peaks.iter().map(|peak| peak.tdoa).collect(),
+                relative_variances: relative_variances(peaks),
             });
         }
         Ok(frames)
