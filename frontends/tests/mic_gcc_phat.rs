@@ -200,21 +200,26 @@ fn noise_only_and_silent_frames_give_empty_sets() {
     }
 }
 
-/// Two broadband sources at once, one at half the other's amplitude (a quarter of its power: its PHAT
-/// peak stands at 0.17 against 0.91): with every peak reported both are found; with the default
-/// `relative_peak_threshold` of 0.6 only the louder, as an echo of that strength would be.
-#[test]
-fn a_much_quieter_source_is_left_out_by_default() {
+/// Eight frames of two white sources, the quiet one at half the loud one's amplitude: mic 2 hears the
+/// loud source 8 samples after mic 1 (TDOA +8) and the quiet one 10 before (−10).
+fn loud_and_quiet_sources() -> StereoAudio {
     const LEN: usize = 8 * 4096;
     let loud = white_noise(LEN, 11);
     let quiet: Vec<f64> = white_noise(LEN, 12).iter().map(|v| 0.5 * v).collect();
-    // Mic 2 hears the loud source 8 samples after mic 1 (TDOA +8) and the quiet one 10 before (−10).
     let sum = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
         a.iter().zip(&b).map(|(x, y)| x + y).take(LEN).collect()
     };
     let mic1 = sum(delayed(&loud, 20.0), delayed(&quiet, 20.0));
     let mic2 = sum(delayed(&loud, 28.0), delayed(&quiet, 10.0));
-    let audio = StereoAudio::new(SAMPLE_RATE, mic1, mic2).unwrap();
+    StereoAudio::new(SAMPLE_RATE, mic1, mic2).unwrap()
+}
+
+/// Two broadband sources at once, one at half the other's amplitude (a quarter of its power: its PHAT
+/// peak stands at 0.17 against 0.91): with every peak reported both are found; with the default
+/// `relative_peak_threshold` of 0.6 only the louder, as an echo of that strength would be.
+#[test]
+fn a_much_quieter_source_is_left_out_by_default() {
+    let audio = loud_and_quiet_sources();
     let found =
         |tdoas: &[f64], samples: f64| tdoas.iter().any(|tau| (tau * RATE - samples).abs() <= 0.5);
     for (relative_peak_threshold, quiet_expected) in [(0.0, true), (0.6, false)] {
@@ -244,15 +249,7 @@ fn a_much_quieter_source_is_left_out_by_default() {
 /// variance (factor 1) and the quieter source's gets Knapp & Carter's larger one.
 #[test]
 fn the_quieter_sources_tdoa_gets_the_wider_variance() {
-    const LEN: usize = 8 * 4096;
-    let loud = white_noise(LEN, 11);
-    let quiet: Vec<f64> = white_noise(LEN, 12).iter().map(|v| 0.5 * v).collect();
-    let sum = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
-        a.iter().zip(&b).map(|(x, y)| x + y).take(LEN).collect()
-    };
-    let mic1 = sum(delayed(&loud, 20.0), delayed(&quiet, 20.0));
-    let mic2 = sum(delayed(&loud, 28.0), delayed(&quiet, 10.0));
-    let audio = StereoAudio::new(SAMPLE_RATE, mic1, mic2).unwrap();
+    let audio = loud_and_quiet_sources();
     let mut config = MicPairConfig::new(MIC_DISTANCE);
     config.min_spectral_contrast = 0.0;
     config.segment_duration = 0.0;
