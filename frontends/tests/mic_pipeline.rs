@@ -16,6 +16,7 @@ fn a_config_with_only_the_mic_distance_takes_the_documented_defaults() {
     assert_eq!(config.peak_threshold, 0.07);
     assert_eq!(config.relative_peak_threshold, 0.6);
     assert_eq!(config.pooling_time_constant, 0.0);
+    assert!(config.noise_by_peak_height);
     assert_eq!(config.min_frequency, 100.0);
     assert_eq!(config.max_frequency, None);
     assert_eq!(config.median_gate, 2.0);
@@ -29,13 +30,14 @@ fn every_field_can_be_set_and_unknown_or_missing_fields_are_rejected() {
         "mic_distance = 0.3\nspeed_of_sound = 340.0\nframe_duration = 0.128\nhop_duration = 0.064\n\
          interpolation = 4\nmax_peaks = 2\npeak_threshold = 0.2\nmin_frequency = 300.0\n\
          max_frequency = 4000.0\nphat_floor = 1e-6\nmedian_gate = 0.0\nmin_spectral_contrast = 0.0\n\
-         relative_peak_threshold = 0.5",
+         relative_peak_threshold = 0.5\nnoise_by_peak_height = false",
     )
     .unwrap();
     assert_eq!(config.hop_duration, Some(0.064));
     assert_eq!(config.max_frequency, Some(4000.0));
     assert_eq!(config.max_peaks, 2);
     assert_eq!(config.relative_peak_threshold, 0.5);
+    assert!(!config.noise_by_peak_height);
     config.validate().unwrap();
 
     let misspelt = toml::from_str::<MicPairConfig>("mic_distance = 0.5\nmax_peak = 3").unwrap_err();
