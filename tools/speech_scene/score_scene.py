@@ -31,7 +31,8 @@ def arguments():
 
 
 def agent_lines(args, scene, start, work):
-    lines = []
+    """Each pair's agent output, one list of lines per pair."""
+    outputs = []
     for name in PAIRS:
         output = f"{work}/{name}.jsonl"
         command = [f"{args.bin}/edge-agent", "mic-pair", "--wav", f"{scene}/{name}.wav",
@@ -40,12 +41,28 @@ def agent_lines(args, scene, start, work):
             command += ["--frontend-config", args.frontend_config]
         subprocess.run(command, check=True, env=dict(os.environ, RUST_LOG="error"))
         with open(output) as f:
-            lines += [json.loads(line) for line in f]
-    return lines
+            outputs.append([json.loads(line) for line in f])
+    return outputs
 
 
 def stamp_of(line):
     return next(iter(line.values())).get("stamp", -1.0)
+
+
+def merged(truth_lines, agent_outputs):
+    """The truth and each agent's lines in stamp order, as `fusion-checker` merges them: a line without a
+    stamp (a descriptor) keeps its place before its agent's next set, so that a descriptor the agent
+    refined part-way through applies from there on, as it would live. Sets of one instant go in the order of
+    the pairs: the filter updates sequentially, and its result depends on that order."""
+    keyed = [(stamp_of(line), 0, 0, 0, line) for line in truth_lines]
+    for pair, lines in enumerate(agent_outputs):
+        next_stamp = float("inf")
+        for index in range(len(lines) - 1, -1, -1):
+            if "measurements" in lines[index]:
+                next_stamp = lines[index]["measurements"]["stamp"]
+            keyed.append((next_stamp, 1, pair, index, lines[index]))
+    keyed.sort(key=lambda key: key[:4])
+    return [line for *_, line in keyed]
 
 
 def ospa(truth, tracks):
@@ -89,8 +106,7 @@ def run(args, scene):
     with open(f"{scene}/truth.jsonl") as f:
         truth_lines = [json.loads(line) for line in f]
     with tempfile.TemporaryDirectory() as work:
-        lines = truth_lines + agent_lines(args, scene, start, work)
-        lines.sort(key=lambda l: (stamp_of(l), 0 if "truth" in l else 1))
+        lines = merged(truth_lines, agent_lines(args, scene, start, work))
         with open(f"{work}/replay.jsonl", "w") as f:
             f.writelines(json.dumps(l) + "\n" for l in lines)
         subprocess.run([f"{args.bin}/fusion-server", "replay", "--config", f"{scene}/server.toml",
