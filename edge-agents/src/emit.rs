@@ -190,14 +190,19 @@ impl Emitter {
 
     /// Takes the front end's own report of sensor `stream`'s last set (`front_end_report.rs`): the
     /// descriptor is calibrated from these, and announced anew when it drifted.
-    pub fn take_report(&mut self, stream: usize, report: FrontEndReport) -> Result<(), AgentError> {
+    pub fn take_report(
+        &mut self,
+        stream: usize,
+        stamp: f64,
+        report: FrontEndReport,
+    ) -> Result<(), AgentError> {
         let Some(entry) = self.streams.get_mut(stream) else {
             return Err(AgentError::Usage(format!("no sensor stream #{stream}")));
         };
         let refined = entry
             .calibration
             .as_mut()
-            .and_then(|c| c.observe_report(report));
+            .and_then(|c| c.observe_report(stamp, report));
         if let Some(descriptor) = refined {
             self.announce(stream, descriptor)?;
         }

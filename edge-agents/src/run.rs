@@ -141,7 +141,11 @@ async fn pump(
             Event::Set { stream, frame } => emitter.emit_set(stream, frame).await?,
             Event::Truth(truth) => emitter.emit_truth(truth).await?,
             Event::SourceDown { stream, .. } => emitter.withdraw(stream),
-            Event::Report { stream, report, .. } => emitter.take_report(stream, report)?,
+            Event::Report {
+                stream,
+                stamp,
+                report,
+            } => emitter.take_report(stream, stamp, report)?,
         }
     }
 }
