@@ -6,7 +6,7 @@ file, and `fusion-server replay` runs it with the scene's `server.toml`. The sco
 (c = 1 m, p = 1) and the share of track sets with the right count, over the track sets after 6 s
 stamped while someone talks.
 
-    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE]
+    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE] [--orders 4]
 """
 
 import argparse
@@ -27,6 +27,8 @@ def arguments():
     parser.add_argument("scenes", nargs="+")
     parser.add_argument("--bin", default="target/release", help="directory of edge-agent and fusion-server")
     parser.add_argument("--frontend-config", help="mic front-end TOML given to every agent")
+    parser.add_argument("--orders", type=int, default=1, choices=range(1, len(PAIRS) + 1),
+                        help="average over this many rotations of the pairs' order among sets of one instant")
     return parser.parse_args()
 
 
@@ -101,18 +103,26 @@ def score(scene_dir, tracks_path, truth_lines):
 
 
 def run(args, scene):
+    """The scene's figures, averaged over `args.orders` rotations of the pairs' order."""
     with open(f"{scene}/scene.json") as f:
         start = json.load(f)["start"]
     with open(f"{scene}/truth.jsonl") as f:
         truth_lines = [json.loads(line) for line in f]
     with tempfile.TemporaryDirectory() as work:
-        lines = merged(truth_lines, agent_lines(args, scene, start, work))
-        with open(f"{work}/replay.jsonl", "w") as f:
-            f.writelines(json.dumps(l) + "\n" for l in lines)
-        subprocess.run([f"{args.bin}/fusion-server", "replay", "--config", f"{scene}/server.toml",
-                        "--input", f"{work}/replay.jsonl", "--output", f"{work}/tracks.jsonl"],
-                       check=True, capture_output=True, env=dict(os.environ, RUST_LOG="error"))
-        return score(scene, f"{work}/tracks.jsonl", truth_lines)
+        outputs = agent_lines(args, scene, start, work)
+        figures = [replayed(args, scene, work, merged(truth_lines, outputs[k:] + outputs[:k]), truth_lines)
+                   for k in range(args.orders)]
+    return tuple(np.mean(figures, axis=0))
+
+
+def replayed(args, scene, work, lines, truth_lines):
+    """`fusion-server replay` of `lines` with the scene's configuration, scored."""
+    with open(f"{work}/replay.jsonl", "w") as f:
+        f.writelines(json.dumps(l) + "\n" for l in lines)
+    subprocess.run([f"{args.bin}/fusion-server", "replay", "--config", f"{scene}/server.toml",
+                    "--input", f"{work}/replay.jsonl", "--output", f"{work}/tracks.jsonl"],
+                   check=True, capture_output=True, env=dict(os.environ, RUST_LOG="error"))
+    return score(scene, f"{work}/tracks.jsonl", truth_lines)
 
 
 def main():
@@ -121,7 +131,7 @@ def main():
     for scene in args.scenes:
         ospa_xy, right, n = run(args, scene)
         figures.append((ospa_xy, right))
-        print(f"{scene}: {n} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, count right {100 * right:.1f} %")
+        print(f"{scene}: {n:.0f} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, count right {100 * right:.1f} %")
     if len(figures) > 1:
         mean = np.mean(figures, axis=0)
         print(f"mean over {len(figures)} scenes: OSPA(x, y) {mean[0]:.3f} m, count right {100 * mean[1]:.1f} %")
