@@ -7,6 +7,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use gmphd::MeasurementModel;
 use protocol::{
     MeasurementSet, Rejected, SensorDescriptor, SensorId, ServerRole, Site, Status, TrackSet,
     WireFormat, PROTOCOL_VERSION,
@@ -190,6 +191,7 @@ impl Engine {
             return Err(Rejection::UnknownSensor(name, count));
         };
         sensor.counters.received += 1;
+        let model = Arc::clone(&sensor.model);
         if let Err(reason) = self.check_set(key_sensor, &set, now) {
             self.count_invalid(&name);
             return Err(Rejection::Invalid {
@@ -201,7 +203,7 @@ impl Engine {
         if let Some(sensor) = self.sensors.get_mut(&name) {
             sensor.check_seq(set.seq);
         }
-        self.queue(set, now)
+        self.queue(set, model, now)
     }
 
     /// The validation rules a set must pass, in order; the first broken one is returned.
@@ -236,8 +238,14 @@ impl Engine {
         Ok(())
     }
 
-    /// Queues a valid set for the next step, unless it is older than the history kept.
-    fn queue(&mut self, set: MeasurementSet, now: f64) -> Result<(), Rejection> {
+    /// Queues a valid set, to be read with `model`, for the next step, unless it is older than the
+    /// history kept.
+    fn queue(
+        &mut self,
+        set: MeasurementSet,
+        model: Arc<dyn MeasurementModel>,
+        now: f64,
+    ) -> Result<(), Rejection> {
         let name = set.sensor.clone();
         if let Some(horizon) = self.timeline.horizon().filter(|h| set.stamp < *h) {
             self.count_late(&name);
@@ -252,7 +260,11 @@ impl Engine {
             return Err(Rejection::Overflow(name));
         }
         let key = Key::new(set.stamp, (name, set.seq));
-        let item = Pending { set, arrived: now };
+        let item = Pending {
+            set,
+            model,
+            arrived: now,
+        };
         self.waiting.push(Incoming { key, item });
         Ok(())
     }
@@ -297,7 +309,7 @@ impl Engine {
             .collect();
         arrivals.sort_by(|a, b| a.0.cmp(&b.0));
         let mut processed = Vec::with_capacity(batch.len());
-        let mut run = FilterRun::new(&mut self.tracker, &self.sensors, &self.site);
+        let mut run = FilterRun::new(&mut self.tracker, &self.site);
         let began = Instant::now();
         let report = self.timeline.process_batch(batch, &mut run, |p| {
             processed.push((p.key.clone(), p.output.cloned(), p.fresh));

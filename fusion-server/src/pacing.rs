@@ -124,6 +124,15 @@ mod tests {
             key: Key::new(stamp, (sensor, seq)),
             item: Pending {
                 set,
+                model: std::sync::Arc::new(
+                    gmphd::PositionSensor::new(
+                        &[0.1, 0.1],
+                        &[0.0, 0.0],
+                        &[1.0, 1.0],
+                        gmphd::Detection::new(0.9, 1.0).unwrap(),
+                    )
+                    .unwrap(),
+                ),
                 arrived: stamp,
             },
         }

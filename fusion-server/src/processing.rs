@@ -1,9 +1,11 @@
 //! What the timeline drives in the server: the site's tracker, one measurement set at a time.
 
+use std::sync::Arc;
+
+use gmphd::MeasurementModel;
 use protocol::{MeasurementSet, SensorId, Site, TrackSet};
 
 use crate::engine::empty_tracks;
-use crate::sensors::SensorRegistry;
 use crate::timeline::{Processor, Timeline};
 use crate::tracker::{Tracker, TrackerState};
 
@@ -19,25 +21,24 @@ pub type SetTimeline = Timeline<Tie, Pending, TrackSet, TrackerState>;
 pub struct Pending {
     /// The validated set.
     pub set: MeasurementSet,
+    /// The model of the sensor's descriptor the set was admitted under. A set processed again after
+    /// a rollback is read with it, not with a descriptor the sensor announced since, so that the
+    /// result does not depend on when the new descriptor arrived between sets of one instant.
+    pub model: Arc<dyn MeasurementModel>,
     /// Arrival time on the engine's clock (for latency).
     pub arrived: f64,
 }
 
-/// The tracker with what it needs to process a set: each sensor's model and the site.
+/// The tracker with what it needs to process a set: the site.
 pub struct FilterRun<'a> {
     tracker: &'a mut Tracker,
-    sensors: &'a SensorRegistry,
     site: &'a Site,
 }
 
 impl<'a> FilterRun<'a> {
-    /// Processing with `tracker`, the models of `sensors`, for `site`.
-    pub fn new(tracker: &'a mut Tracker, sensors: &'a SensorRegistry, site: &'a Site) -> Self {
-        Self {
-            tracker,
-            sensors,
-            site,
-        }
+    /// Processing with `tracker`, for `site`.
+    pub fn new(tracker: &'a mut Tracker, site: &'a Site) -> Self {
+        Self { tracker, site }
     }
 }
 
@@ -59,8 +60,7 @@ impl Processor<Pending> for FilterRun<'_> {
     /// The track set after `pending` (its `seq` is left 0: the engine numbers what it publishes).
     fn process(&mut self, pending: &Pending) -> Option<TrackSet> {
         let set = &pending.set;
-        let model = self.sensors.get(&set.sensor)?.model.clone();
-        match self.tracker.process(set.stamp, model.as_ref(), set) {
+        match self.tracker.process(set.stamp, pending.model.as_ref(), set) {
             Ok(tracks) => {
                 let mut out = empty_tracks(self.site, 0, set.stamp);
                 out.expected_count = self.tracker.expected_count();

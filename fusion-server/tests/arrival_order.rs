@@ -55,6 +55,22 @@ fn run(
     arrivals: &[(f64, MeasurementSet)],
     batch: usize,
 ) -> (Vec<String>, Engine) {
+    run_with_change(descriptors, arrivals, batch, None)
+}
+
+/// A sensor's new descriptor, announced just before its first set stamped at or after `from`.
+struct Change {
+    descriptor: SensorDescriptor,
+    from: f64,
+}
+
+/// [`run`], with the sensor of `change` announcing its new descriptor part-way.
+fn run_with_change(
+    descriptors: &[SensorDescriptor],
+    arrivals: &[(f64, MeasurementSet)],
+    batch: usize,
+    mut change: Option<Change>,
+) -> (Vec<String>, Engine) {
     let mut engine = Engine::new(ServerConfig::default(), T0, false).unwrap();
     for d in descriptors {
         engine.learn_descriptor(d.clone(), false).unwrap();
@@ -62,6 +78,13 @@ fn run(
     let mut settled = Vec::new();
     for chunk in arrivals.chunks(batch) {
         for (arrived, set) in chunk {
+            let due = change
+                .as_ref()
+                .is_some_and(|c| c.descriptor.sensor == set.sensor && set.stamp >= c.from);
+            if due {
+                let Change { descriptor, .. } = change.take().unwrap();
+                engine.learn_descriptor(descriptor, false).unwrap();
+            }
             engine.admit_decoded(None, set.clone(), *arrived).unwrap();
         }
         engine.step(chunk.last().unwrap().0);
@@ -101,6 +124,41 @@ fn delayed_sensors_give_the_in_order_result_bit_for_bit() {
         assert_eq!((late, processed), (0, sets.len() as u64));
         assert!(rollbacks > 0, "the delays must cause rollbacks");
     }
+}
+
+/// A sensor that announces a new descriptor (an agent refining its clutter rate and p_D): its
+/// sets admitted before keep the old one when a rollback processes them again, so the result is
+/// the in-order one whatever the arrival order.
+#[test]
+fn a_new_descriptor_does_not_reach_back_to_sets_processed_again() {
+    let (descriptors, sets) = room(11, 12.0);
+    // A sensor without a fixed delay in `delayed`: the delayed cameras' sets make the filter
+    // process its earlier sets again after its new descriptor has arrived.
+    let mut refined = descriptors
+        .iter()
+        .find(|d| !matches!(d.sensor.as_str().as_bytes().last(), Some(b'1' | b'2')))
+        .unwrap()
+        .clone();
+    refined.detection_probability *= 0.8;
+    refined.clutter_rate += 0.5;
+    let change = || {
+        Some(Change {
+            descriptor: refined.clone(),
+            from: T0 + 6.0,
+        })
+    };
+    let in_order: Vec<(f64, MeasurementSet)> = sets.iter().map(|s| (s.stamp, s.clone())).collect();
+    let (expected, _) = run_with_change(&descriptors, &in_order, 1, change());
+    let (unchanged, _) = run(&descriptors, &in_order, 1);
+    assert_ne!(
+        expected, unchanged,
+        "the new descriptor must change the tracks"
+    );
+    let arrivals = delayed(&sets, 4, 0.3);
+    let (got, _) = run_with_change(&descriptors, &arrivals, 3, change());
+    let first_difference = got.iter().zip(&expected).position(|(a, b)| a != b);
+    assert_eq!(first_difference, None);
+    assert_eq!(got.len(), expected.len());
 }
 
 #[test]
