@@ -10,8 +10,8 @@
 //! front end is calibrated as soon as a fast one: a microphone pair's 0.256 s frames reach the estimator's
 //! 60 frames after 15 s, and with a check every 50 frames its first estimate waited until 25.6 s. Until then
 //! the filter works with the user's figures; on two-talker speech synthesized elsewhere
-//! (`tools/speech_scene`, 15 scenes, `--orders 4`) the earlier estimate takes the count right from 58 to
-//! 64 %, on the rendered default room (seeds 1–5) from 51 to 54 %.
+//! (`tools/speech_scene`, 15 scenes) the earlier estimate takes the count right from 56 to 63 %, on the
+//! rendered default room (seeds 1–5) from 49.5 to 53 %.
 //!
 //! A front end that reports its own account of each set (`front_end_report.rs`: the camera's
 //! multi-Bernoulli image tracker) is calibrated from those reports instead of from persistence, with

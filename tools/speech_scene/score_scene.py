@@ -6,7 +6,7 @@ file, and `fusion-server replay` runs it with the scene's `server.toml`. The sco
 (c = 1 m, p = 1) and the share of track sets with the right count, over the track sets after 6 s
 stamped while someone talks.
 
-    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE] [--orders 4]
+    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE]
 """
 
 import argparse
@@ -27,8 +27,6 @@ def arguments():
     parser.add_argument("scenes", nargs="+")
     parser.add_argument("--bin", default="target/release", help="directory of edge-agent and fusion-server")
     parser.add_argument("--frontend-config", help="mic front-end TOML given to every agent")
-    parser.add_argument("--orders", type=int, default=1, choices=range(1, len(PAIRS) + 1),
-                        help="average over this many rotations of the pairs' order among sets of one instant")
     return parser.parse_args()
 
 
@@ -54,8 +52,7 @@ def stamp_of(line):
 def merged(truth_lines, agent_outputs):
     """The truth and each agent's lines in stamp order, as `fusion-checker` merges them: a line without a
     stamp (a descriptor) keeps its place before its agent's next set, so that a descriptor the agent
-    refined part-way through applies from there on, as it would live. Sets of one instant go in the order of
-    the pairs: the filter updates sequentially, and its result depends on that order."""
+    refined part-way through applies from there on, as it would live."""
     keyed = [(stamp_of(line), 0, 0, 0, line) for line in truth_lines]
     for pair, lines in enumerate(agent_outputs):
         next_stamp = float("inf")
@@ -103,16 +100,14 @@ def score(scene_dir, tracks_path, truth_lines):
 
 
 def run(args, scene):
-    """The scene's figures, averaged over `args.orders` rotations of the pairs' order."""
+    """The scene's figures: its mean OSPA(x, y), share of right counts and number of track sets scored."""
     with open(f"{scene}/scene.json") as f:
         start = json.load(f)["start"]
     with open(f"{scene}/truth.jsonl") as f:
         truth_lines = [json.loads(line) for line in f]
     with tempfile.TemporaryDirectory() as work:
-        outputs = agent_lines(args, scene, start, work)
-        figures = [replayed(args, scene, work, merged(truth_lines, outputs[k:] + outputs[:k]), truth_lines)
-                   for k in range(args.orders)]
-    return tuple(np.mean(figures, axis=0))
+        lines = merged(truth_lines, agent_lines(args, scene, start, work))
+        return replayed(args, scene, work, lines, truth_lines)
 
 
 def replayed(args, scene, work, lines, truth_lines):
@@ -131,7 +126,7 @@ def main():
     for scene in args.scenes:
         ospa_xy, right, n = run(args, scene)
         figures.append((ospa_xy, right))
-        print(f"{scene}: {n:.0f} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, count right {100 * right:.1f} %")
+        print(f"{scene}: {n} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, count right {100 * right:.1f} %")
     if len(figures) > 1:
         mean = np.mean(figures, axis=0)
         print(f"mean over {len(figures)} scenes: OSPA(x, y) {mean[0]:.3f} m, count right {100 * mean[1]:.1f} %")

@@ -39,8 +39,8 @@ pub struct MicPairConfig {
     /// K: at most this many TDOAs per frame, the highest correlation peaks. Default 4: two talkers and the
     /// echo or ripple that sometimes outranks the quieter one's direct path; `relative_peak_threshold` keeps
     /// the frames with one clear talker down to one or two. With it (see there), 3 gives the count right in
-    /// 70 % on speech synthesized elsewhere and 46.5 % on the rendered room (seeds 1–5); 4 gives 64 and 54 %
-    /// (`tools/speech_scene/`, 15 scenes, `--orders 4`).
+    /// 71 % on speech synthesized elsewhere (`tools/speech_scene/`, 15 scenes) and 49 % on the rendered room
+    /// (seeds 1–5); 4 gives 63 and 53 %.
     #[serde(default = "default_max_peaks")]
     pub max_peaks: usize,
     /// Smallest normalised GCC-PHAT peak height that is reported (1 = the channels are exact delayed copies).
@@ -54,11 +54,11 @@ pub struct MicPairConfig {
     /// peak is clutter that the fusion must explain; what the fusion makes of four pairs depends more on how
     /// much clutter it gets than on the few talkers it misses. With 0.6 (and no pooling, K = 4) the pairs
     /// send about one TDOA a frame less. Measured on speech synthesized by espeak-ng through
-    /// pyroomacoustics' image-source rooms (`tools/speech_scene/`: 15 scenes, T60 0.3 s, SNR 20 dB,
-    /// `--orders 4`): OSPA(x, y) 0.43 m and the count right in 64 % of the talking frames, against 0.50 m
-    /// and 43 % with 0 (0.62 m and 16 % with pooling, five peaks and no `noise_by_peak_height` besides); on
-    /// the rendered default room (seeds 1–5) 0.54 m and 54 % against 0.54 m and 56 %. With K = 3, 0.5 and
-    /// 0.7 did worse than 0.6 on both.
+    /// pyroomacoustics' image-source rooms (`tools/speech_scene/`: 15 scenes, T60 0.3 s, SNR 20 dB):
+    /// OSPA(x, y) 0.44 m and the count right in 63 % of the talking frames, against 0.50 m and 41 % with 0
+    /// (0.62 m and 16 % with pooling, five peaks and no `noise_by_peak_height` besides); on the rendered
+    /// default room (seeds 1–5) 0.55 m and 53 % against 0.54 m and 55 %. With K = 3, 0.5 and 0.7 did worse
+    /// than 0.6 on both.
     #[serde(default = "default_relative_peak_threshold")]
     pub relative_peak_threshold: f64,
     /// Lowest frequency in Hz used in the correlation. Default 100: below it speech has little energy and
@@ -102,10 +102,10 @@ pub struct MicPairConfig {
     /// pooling_time_constant)` of its weight at each frame; the peaks are picked on the pooled correlation.
     /// 0 picks them on each frame alone, the default. Why: the direct path persists from frame to frame, but
     /// so do a standing talker's echoes, and the pool also keeps a talker who has stopped for a second. With
-    /// today's other defaults a pool of 0.6 s gives the count right in 60 % against 64 % without on speech
-    /// synthesized elsewhere (`tools/speech_scene/`, 15 scenes, `--orders 4`), and 53 against 54 % on the
-    /// rendered default room (seeds 1–5), where a single frame's highest peak is a talker's direct path in
-    /// only a quarter of the frames (over half on the synthesized speech).
+    /// today's other defaults a pool of 0.6 s gives the count right in 60 % against 63 % without on speech
+    /// synthesized elsewhere (`tools/speech_scene/`, 15 scenes), and 51 against 53 % on the rendered default
+    /// room (seeds 1–5), where a single frame's highest peak is a talker's direct path in only a quarter of
+    /// the frames (over half on the synthesized speech).
     #[serde(default = "default_pooling_time_constant")]
     pub pooling_time_constant: f64,
     /// Fastest change of a talker's TDOA the pooling follows (when `pooling_time_constant` is set), in seconds
@@ -121,9 +121,9 @@ pub struct MicPairConfig {
     /// of the louder talker or two paths merged, and a wider likelihood lets the fusion take them for
     /// clutter more readily and pulls its tracks less towards them. False sends every TDOA with the
     /// descriptor's noise. On speech synthesized by espeak-ng through pyroomacoustics' rooms
-    /// (`tools/speech_scene/`, 15 scenes, `--orders 4`) it takes the count right from 59 to 64 % of the
-    /// talking frames and OSPA(x, y) from 0.46 to 0.43 m. On the simulator's rendered room it costs: 54 %
-    /// instead of 63 % (seeds 1–5), because there a frame's strongest peak is a
+    /// (`tools/speech_scene/`, 15 scenes) it takes the count right from 57.5 to 63 % of the talking frames
+    /// and OSPA(x, y) from 0.47 to 0.44 m. On the simulator's rendered room it costs: 53 % instead of 63 %
+    /// (seeds 1–5), because there a frame's strongest peak is a
     /// talker's direct path in only a quarter of the frames (over half on the synthesized speech), so
     /// the weaker peaks it discounts are often the talkers. The default follows the speech made outside
     /// the project; the bound has no setting to tune (its square root or its power 1.5 do no better).
