@@ -18,11 +18,11 @@ use crate::latency::SharedLatency;
 use crate::pacing::RollbackPacing;
 use crate::processing::{FilterRun, Pending, SetTimeline, Tie};
 pub use crate::rejection::Rejection;
-
-mod admission;
 use crate::sensors::{Learned, SensorRegistry};
 use crate::timeline::{BatchReport, Incoming, Key, TimelineConfig};
 use crate::tracker::{Tracker, TrackerState};
+
+mod admission;
 
 /// What one [`Engine::step`] produced.
 #[derive(Debug, Default)]
