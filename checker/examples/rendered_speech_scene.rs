@@ -16,13 +16,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use checker::raw_inputs::write_stereo_wav;
+use checker::talker_room::{two_talker_room, START};
 use clap::Parser;
-use protocol::{ReplayLine, SensorDescriptor, SensorModel};
+use protocol::ReplayLine;
 use simulator::render::{render_mic_pair, AcousticRoom, Talker};
 use simulator::Scenario;
-
-/// Scenario time 0 (Unix time), as in the integration test.
-const START: f64 = 1_763_700_000.0;
 
 /// The server configuration a user would write for talkers in the default room (that of the test).
 const SERVER_TOML: &str = "[site]
@@ -59,18 +57,8 @@ fn main() -> anyhow::Result<()> {
         let room = AcousticRoom::default();
         let rendered = render_mic_pair(&scenario, name, &room, arguments.seed, arguments.duration)?;
         write_stereo_wav(&rendered, &out.join(format!("{name}.wav")))?;
-        let given = SensorDescriptor::new(
-            scenario.site.clone(),
-            spec.sensor.clone(),
-            spec.model.clone(),
-            spec.detection_probability,
-            spec.clutter_rate,
-        );
-        write(
-            out,
-            &format!("{name}.json"),
-            &serde_json::to_string(&given)?,
-        )?;
+        let given = serde_json::to_string(&spec.descriptor(&scenario.site))?;
+        write(out, &format!("{name}.json"), &given)?;
         talkers = rendered.talkers;
     }
     write_truth(out, &scenario, arguments.seed, arguments.duration)?;
@@ -78,18 +66,6 @@ fn main() -> anyhow::Result<()> {
     write(out, "server.toml", SERVER_TOML)?;
     eprintln!("wrote {}", out.display());
     Ok(())
-}
-
-/// The default room with its first two people and its four microphone pairs only.
-fn two_talker_room(duration_s: f64) -> Scenario {
-    let mut scenario = simulator::default_room();
-    scenario.start = Some(START);
-    scenario.duration_s = duration_s;
-    scenario.targets.truncate(2);
-    scenario
-        .sensors
-        .retain(|s| matches!(s.model, SensorModel::MicPair(_)));
-    scenario
 }
 
 /// `truth.jsonl`: one replay line per truth set.

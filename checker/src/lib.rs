@@ -9,6 +9,7 @@ pub mod raw_inputs;
 pub mod raw_profile;
 pub mod replay_file;
 pub mod rogue;
+pub mod talker_room;
 
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};

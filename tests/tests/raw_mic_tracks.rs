@@ -13,12 +13,13 @@ use std::process::Command;
 use checker::processes::binary;
 use checker::raw_inputs::write_stereo_wav;
 use checker::replay_file;
+use checker::talker_room::{two_talker_room, START};
 use evaluation::TRUTH_TOLERANCE_S;
 use fusion_server::config::{MotionKind, ServerConfig};
 use fusion_server::replay::replay;
 use gmphd::metrics::{ospa, MetricParams};
 use nalgebra::DVector;
-use protocol::{MeasurementSet, ReplayLine, SensorDescriptor, SensorModel, TrackSet, TruthSet};
+use protocol::{MeasurementSet, ReplayLine, SensorModel, TrackSet, TruthSet};
 use simulator::render::{render_mic_pair, AcousticRoom, Talker};
 use simulator::{Scenario, SensorSpec};
 
@@ -26,19 +27,6 @@ use simulator::{Scenario, SensorSpec};
 const SECONDS: f64 = 40.0;
 /// Scored from here on: both talkers have appeared and talked by then.
 const SETTLED_S: f64 = 6.0;
-const START: f64 = 1_763_700_000.0;
-
-/// The default room with its first two people and its four microphone pairs only.
-fn two_talker_room() -> Scenario {
-    let mut scenario = simulator::default_room();
-    scenario.start = Some(START);
-    scenario.duration_s = SECONDS;
-    scenario.targets.truncate(2);
-    scenario
-        .sensors
-        .retain(|s| matches!(s.model, SensorModel::MicPair(_)));
-    scenario
-}
 
 /// The server's configuration for a room of talkers, as its user would write it: talkers are
 /// followed by what they say, so their pauses are modelled (`filter.speech_activity`), and people
@@ -66,13 +54,7 @@ fn agent_lines(
     let wav = dir.join(format!("{name}.wav"));
     write_stereo_wav(&rendered, &wav).unwrap();
     let descriptor = dir.join(format!("{name}.json"));
-    let given = SensorDescriptor::new(
-        scenario.site.clone(),
-        spec.sensor.clone(),
-        spec.model.clone(),
-        spec.detection_probability,
-        spec.clutter_rate,
-    );
+    let given = spec.descriptor(&scenario.site);
     std::fs::write(&descriptor, serde_json::to_vec(&given).unwrap()).unwrap();
     let output = dir.join(format!("{name}.jsonl"));
     let mut command = Command::new(binary("edge-agent").unwrap());
@@ -135,13 +117,7 @@ fn exact_lines(
     seed: u64,
     talkers: &[Talker],
 ) -> Vec<ReplayLine> {
-    let descriptor = SensorDescriptor::new(
-        scenario.site.clone(),
-        spec.sensor.clone(),
-        spec.model.clone(),
-        spec.detection_probability,
-        spec.clutter_rate,
-    );
+    let descriptor = spec.descriptor(&scenario.site);
     let mut lines = vec![ReplayLine::Descriptor(descriptor)];
     let frames = (SECONDS * f64::from(RATE)) as usize / FRAME;
     for frame in 0..frames {
@@ -274,7 +250,7 @@ fn replayed_figures(input: &[u8], talkers: &[Talker], what: &str) -> (f64, f64) 
 
 #[test]
 fn two_talkers_are_tracked_from_the_rendered_audio() {
-    let scenario = two_talker_room();
+    let scenario = two_talker_room(SECONDS);
     for seed in [1, 2, 3] {
         let (input, talkers) = replay_file(&scenario, seed);
         let (ospa_xy, right) = replayed_figures(&input, &talkers, &format!("seed {seed}"));
@@ -295,7 +271,7 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
 /// a talker's pauses must not cost its track.
 #[test]
 fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
-    let scenario = two_talker_room();
+    let scenario = two_talker_room(SECONDS);
     let (_, first) = scenario.sensor("mics_s").unwrap();
     assert!(matches!(first.model, SensorModel::MicPair(_)));
     for seed in [1, 2, 3] {
@@ -326,7 +302,7 @@ fn exact_tdoas_show_what_the_fusion_makes_of_intermittent_talkers() {
 /// misses taken away), each through the same chain.
 #[test]
 fn the_front_ends_misses_and_its_clutter_each_alone() {
-    let scenario = two_talker_room();
+    let scenario = two_talker_room(SECONDS);
     for seed in [1, 2, 3] {
         let (agents, talkers) = all_agent_lines(&scenario, seed);
         for (true_part, what) in [
