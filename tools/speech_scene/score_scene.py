@@ -6,7 +6,11 @@ file, and `fusion-server replay` runs it with the scene's `server.toml`. The sco
 (c = 1 m, p = 1) and the share of track sets with the right count, over the track sets after 6 s
 stamped while someone talks.
 
-    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE]
+With `--tdoas MODE` the agents' sets are replaced in part by the truth's exact TDOAs before the replay
+(`tdoa_truth.py`: `exact`, `hits`, `exact-with-clutter`), which shows what each of the front end's
+failings costs; each scene's line then also gives the agents' TDOAs held against the truth.
+
+    python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE] [--tdoas MODE]
 """
 
 import argparse
@@ -18,6 +22,8 @@ import tempfile
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+import tdoa_truth
+
 PAIRS = ["mics_s", "mics_e", "mics_n", "mics_w"]
 SETTLED_S = 6.0
 
@@ -27,6 +33,8 @@ def arguments():
     parser.add_argument("scenes", nargs="+")
     parser.add_argument("--bin", default="target/release", help="directory of edge-agent and fusion-server")
     parser.add_argument("--frontend-config", help="mic front-end TOML given to every agent")
+    parser.add_argument("--tdoas", choices=tdoa_truth.MODES, default="front-end",
+                        help="; ".join(f"{k}: {v}" for k, v in tdoa_truth.MODES.items()))
     return parser.parse_args()
 
 
@@ -100,14 +108,18 @@ def score(scene_dir, tracks_path, truth_lines):
 
 
 def run(args, scene):
-    """The scene's figures: its mean OSPA(x, y), share of right counts and number of track sets scored."""
+    """The scene's figures: its mean OSPA(x, y), share of right counts and number of track sets scored,
+    and the agents' TDOAs held against the truth (`tdoa_truth.peak_shares`)."""
     with open(f"{scene}/scene.json") as f:
         start = json.load(f)["start"]
     with open(f"{scene}/truth.jsonl") as f:
         truth_lines = [json.loads(line) for line in f]
+    paths = tdoa_truth.DirectPaths(scene)
     with tempfile.TemporaryDirectory() as work:
-        lines = merged(truth_lines, agent_lines(args, scene, start, work))
-        return replayed(args, scene, work, lines, truth_lines)
+        outputs = agent_lines(args, scene, start, work)
+        shares = tdoa_truth.peak_shares(paths, outputs)
+        lines = merged(truth_lines, tdoa_truth.substituted(paths, outputs, args.tdoas))
+        return (*replayed(args, scene, work, lines, truth_lines), shares)
 
 
 def replayed(args, scene, work, lines, truth_lines):
@@ -124,12 +136,21 @@ def main():
     args = arguments()
     figures = []
     for scene in args.scenes:
-        ospa_xy, right, n = run(args, scene)
-        figures.append((ospa_xy, right))
-        print(f"{scene}: {n} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, count right {100 * right:.1f} %")
+        ospa_xy, right, n, shares = run(args, scene)
+        figures.append((ospa_xy, right, *shares.values()))
+        print(f"{scene}: {n} track sets while someone talks: mean OSPA(x, y) {ospa_xy:.3f} m, "
+              f"count right {100 * right:.1f} %; {describe(shares)}")
     if len(figures) > 1:
         mean = np.mean(figures, axis=0)
-        print(f"mean over {len(figures)} scenes: OSPA(x, y) {mean[0]:.3f} m, count right {100 * mean[1]:.1f} %")
+        print(f"mean over {len(figures)} scenes: OSPA(x, y) {mean[0]:.3f} m, count right {100 * mean[1]:.1f} %; "
+              f"{describe(dict(zip(shares, mean[2:])))}")
+
+
+def describe(shares):
+    """The agents' TDOAs against the truth, in words."""
+    return (f"the agents sent {shares['tdoas_per_frame']:.2f} TDOAs a frame, a talking talker's direct path "
+            f"among them {100 * shares['direct_path_found']:.0f} % of the time, {shares['near_per_frame']:.2f} "
+            f"near one and {shares['far_per_frame']:.2f} far from all")
 
 
 if __name__ == "__main__":
