@@ -12,7 +12,7 @@ fn a_config_with_only_the_mic_distance_takes_the_documented_defaults() {
     assert_eq!(config.frame_duration, 0.256);
     assert_eq!(config.hop_duration, None);
     assert_eq!(config.interpolation, 8);
-    assert_eq!(config.max_peaks, 4);
+    assert_eq!(config.max_peaks, 3);
     assert_eq!(config.peak_threshold, 0.07);
     assert_eq!(config.relative_peak_threshold, 0.6);
     assert_eq!(config.pooling_time_constant, 0.0);

@@ -13,6 +13,8 @@ use simulator::render::speech::Voice;
 
 /// Two samples at 16 kHz: how close a reported peak must be to a talker's true TDOA.
 const TOLERANCE_S: f64 = 2.0 / 16_000.0;
+/// Per cent of its active frames in which each talker must be among the TDOAs of the default configuration.
+const FLOOR_WITH_DEFAULTS: f64 = 55.0;
 
 /// A lower voice on the mic-1 side speaking first, a higher one on the mic-2 side later, overlapping 4.0–7.5 s.
 fn two_talkers() -> Vec<TalkerSpec> {
@@ -64,22 +66,31 @@ fn each_active_talker_is_found_in_most_of_its_frames() {
     // talker here (73 %) and are held to 70 %. The defaults also leave out peaks below 0.6 of the frame's
     // highest: the quieter talker of a frame in which the other is much louder goes with the echoes (65 %,
     // held to 60 %), and the TDOAs per frame fall from 3.3 to 2.6 (`MicPairConfig::relative_peak_threshold`:
-    // the fusion gains more from the clutter it is spared than it loses with these misses).
+    // the fusion gains more from the clutter it is spared than it loses with these misses). At most three
+    // peaks a frame, the default, find it in 62 % (held to 55 %) with 2.2 TDOAs a frame.
     let every_peak = 0.0;
     let defaults = MicPairConfig::new(0.5);
-    for (segment_duration, relative_peak_threshold, floor) in [
-        (0.0, every_peak, 80.0),
-        (defaults.segment_duration, every_peak, 70.0),
+    for (segment_duration, relative_peak_threshold, max_peaks, floor) in [
+        (0.0, every_peak, 4, 80.0),
+        (defaults.segment_duration, every_peak, 4, 70.0),
         (
             defaults.segment_duration,
             defaults.relative_peak_threshold,
+            4,
             60.0,
         ),
+        (
+            defaults.segment_duration,
+            defaults.relative_peak_threshold,
+            defaults.max_peaks,
+            FLOOR_WITH_DEFAULTS,
+        ),
     ] {
-        println!("segment_duration {segment_duration} s, relative_peak_threshold {relative_peak_threshold}:");
+        println!("segment_duration {segment_duration} s, relative_peak_threshold {relative_peak_threshold}, max_peaks {max_peaks}:");
         let mut config = defaults.clone();
         config.segment_duration = segment_duration;
         config.relative_peak_threshold = relative_peak_threshold;
+        config.max_peaks = max_peaks;
         talkers_found(config, floor);
     }
 }

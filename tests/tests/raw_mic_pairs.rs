@@ -101,11 +101,11 @@ fn rendered_talkers_are_heard_by_every_pair() {
         "mean share of talking (talker, frame) pairs found: {:.0} %",
         100.0 * mean
     );
-    // A floor under today's figure (59 % for seed 1 with the coherence-weighted correlation, 46 %
-    // with whole-frame PHAT; about 2.3 unexplained TDOAs per frame against the descriptors' clutter
-    // rate of 1): it catches a front end or a renderer gone worse. Reverberation at T60 0.3 s and a
-    // second talker often put a reflection's peak above the direct path's.
-    assert!(mean >= 0.5, "only {:.0} % found", 100.0 * mean);
+    // A floor under today's figure (44 % for seed 1 with at most three peaks a frame, the default, and
+    // 1.3 unexplained TDOAs per frame; 50 % and 1.8 with four): it catches a front end or a renderer
+    // gone worse. Reverberation at T60 0.3 s and a second talker often put a reflection's peak above
+    // the direct path's.
+    assert!(mean >= 0.4, "only {:.0} % found", 100.0 * mean);
 }
 
 #[test]

@@ -36,11 +36,14 @@ pub struct MicPairConfig {
     /// negligible (well under 0.05 sample).
     #[serde(default = "default_interpolation")]
     pub interpolation: usize,
-    /// K: at most this many TDOAs per frame, the highest correlation peaks. Default 4: two talkers and the
-    /// echo or ripple that sometimes outranks the quieter one's direct path; `relative_peak_threshold` keeps
-    /// the frames with one clear talker down to one or two. With it (see there), 3 gives the count right in
-    /// 71 % on speech synthesized elsewhere (`tools/speech_scene/`, 15 scenes) and 49 % on the rendered room
-    /// (seeds 1–5); 4 gives 63 and 53 %.
+    /// K: at most this many TDOAs per frame, the highest correlation peaks. Default 3: two talkers and one
+    /// echo or ripple; `relative_peak_threshold` keeps the frames with one clear talker down to one or two.
+    /// Measured with it (see there) on speech synthesized elsewhere (`tools/speech_scene/`): 3 gives the
+    /// count right in 71 % of the talking frames and OSPA(x, y) 0.41 m on the fifteen scenes, 70 % and
+    /// 0.47 m on ten more (seeds 31–40); 4 gives 63 % and 0.44 m, 56 % and 0.50 m; 2 gives 70 % and 61 %.
+    /// On the simulator's rendered room 4 does better (seeds 1–5: 53 against 49 %; seeds 6–10: 58 against
+    /// 46 %): its talkers' direct paths are weaker peaks, more often the fourth. The default follows the
+    /// speech made outside the project, as `noise_by_peak_height` does.
     #[serde(default = "default_max_peaks")]
     pub max_peaks: usize,
     /// Smallest normalised GCC-PHAT peak height that is reported (1 = the channels are exact delayed copies).
@@ -120,13 +123,13 @@ pub struct MicPairConfig {
     /// (`peak_noise.rs`). Default true. Why: a frame's weaker peaks are more often an echo, a sidelobe
     /// of the louder talker or two paths merged, and a wider likelihood lets the fusion take them for
     /// clutter more readily and pulls its tracks less towards them. False sends every TDOA with the
-    /// descriptor's noise. On speech synthesized by espeak-ng through pyroomacoustics' rooms
-    /// (`tools/speech_scene/`, 15 scenes) it takes the count right from 57.5 to 63 % of the talking frames
-    /// and OSPA(x, y) from 0.47 to 0.44 m. On the simulator's rendered room it costs: 53 % instead of 63 %
-    /// (seeds 1–5), because there a frame's strongest peak is a
-    /// talker's direct path in only a quarter of the frames (over half on the synthesized speech), so
-    /// the weaker peaks it discounts are often the talkers. The default follows the speech made outside
-    /// the project; the bound has no setting to tune (its square root or its power 1.5 do no better).
+    /// descriptor's noise. With three peaks a frame it takes the count right of the talking frames from
+    /// 67.7 to 71.2 % on speech synthesized by espeak-ng through pyroomacoustics' rooms
+    /// (`tools/speech_scene/`, 15 scenes), from 62.0 to 70.3 % on ten more, and from 42.6 to 48.6 % on the
+    /// simulator's rendered room (seeds 1–5). With four it cost the rendered room (53 % instead of 63 %),
+    /// where a frame's strongest peak is a talker's direct path in only a quarter of the frames, so that
+    /// the weaker peaks it discounts are often the talkers. The bound has no setting to tune (its square
+    /// root or its power 1.5 do no better).
     #[serde(default = "default_noise_by_peak_height")]
     pub noise_by_peak_height: bool,
 }
@@ -141,7 +144,7 @@ fn default_interpolation() -> usize {
     8
 }
 fn default_max_peaks() -> usize {
-    4
+    3
 }
 fn default_relative_peak_threshold() -> f64 {
     0.6
