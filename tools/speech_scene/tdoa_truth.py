@@ -97,6 +97,7 @@ def substituted(paths, outputs, mode):
 
 
 def substituted_agent(paths, lines, mode):
+    """One agent's lines with its sets replaced as `mode` says, its descriptors as `announced` says."""
     model = next(line["descriptor"]["model"] for line in lines if "descriptor" in line)
     out = []
     for line in lines:
