@@ -24,6 +24,7 @@ MODES = {
     "hits": "only the agent's TDOAs that are a talking talker's direct path, with the p_D it announced",
     "exact-with-clutter": "every talking talker's exact TDOA, plus the agent's far TDOAs, with its descriptors",
     "without-near": "the agent's TDOAs less those near a direct path (echoes, sidelobes), with its descriptors",
+    "near-as-direct": "the agent's TDOAs with each near one moved onto its direct path, with its descriptors",
 }
 
 
@@ -113,12 +114,26 @@ def substituted_agent(paths, lines, mode):
             kept = [z for z in sent if classify(z, directs) == "hit"]
         elif mode == "without-near":
             kept = [z for z in sent if classify(z, directs) != "near"]
+        elif mode == "near-as-direct":
+            kept = near_moved_onto_direct(sent, directs)
         else:
             kept = directs + [z for z in sent if classify(z, directs) == "far"]
         sets["measurements"] = [[z] for z in kept]
         sets["covariances"] = None
         out.append({"measurements": sets})
     return out
+
+
+def near_moved_onto_direct(sent, directs):
+    """`sent` with each near TDOA replaced by the direct path it is near, one TDOA per direct path: what a
+    model that knew which peaks are a talker's echo copies could make of them."""
+    kept = []
+    for z in sent:
+        if classify(z, directs) == "near":
+            z = min(directs, key=lambda d: abs(z - d))
+        if all(abs(z - k) * RATE >= HIT_SAMPLES for k in kept):
+            kept.append(z)
+    return kept
 
 
 def announced(descriptor, mode):
