@@ -6,9 +6,9 @@ file, and `fusion-server replay` runs it with the scene's `server.toml`. The sco
 (c = 1 m, p = 1) and the share of track sets with the right count, over the track sets after 6 s
 stamped while someone talks.
 
-With `--tdoas MODE` the agents' sets are replaced in part by the truth's exact TDOAs before the replay
-(`tdoa_truth.py`: `exact`, `hits`, `exact-with-clutter`), which shows what each of the front end's
-failings costs; each scene's line then also gives the agents' TDOAs held against the truth.
+Each scene's line also gives the agents' TDOAs held against the truth. With `--tdoas MODE` the agents'
+sets are replaced in part by the truth's exact TDOAs before the replay (`tdoa_truth.MODES`), which shows
+what each of the front end's failings costs.
 
     python3 score_scene.py SCENE [SCENE ...] [--bin target/release] [--frontend-config FILE] [--tdoas MODE]
 """
