@@ -16,21 +16,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use checker::raw_inputs::write_stereo_wav;
-use checker::talker_room::{two_talker_room, START};
+use checker::talker_room::{two_talker_room, SERVER_TOML, START};
 use clap::Parser;
 use protocol::ReplayLine;
 use simulator::render::{render_mic_pair, AcousticRoom, Talker};
 use simulator::Scenario;
-
-/// The server configuration a user would write for talkers in the default room (that of the test).
-const SERVER_TOML: &str = "[site]
-name = \"default\"
-
-[filter]
-speech_activity = true
-motion = \"random_walk\"
-position_noise_std = 0.2
-";
 
 /// Write the rendered two-talker room as a speech scene directory.
 #[derive(Parser)]

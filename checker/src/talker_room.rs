@@ -2,11 +2,32 @@
 //! `examples/rendered_speech_scene.rs`): the default room's first two people, heard only by its
 //! four microphone pairs, from a fixed Unix start.
 
+use fusion_server::config::ServerConfig;
 use protocol::SensorModel;
 use simulator::Scenario;
 
 /// Scenario time 0 of the room (Unix time, s).
 pub const START: f64 = 1_763_700_000.0;
+
+/// The server's configuration for this room of talkers, as its user would write it: talkers are
+/// followed by what they say, so their pauses are modelled (`filter.speech_activity`), and people
+/// who stand or stroll while talking are a random walk (`filter.motion`, 0.2 m/√s) rather than a
+/// constant velocity that a silent talker's track would coast away on.
+pub const SERVER_TOML: &str = "[site]
+name = \"default\"
+
+[filter]
+speech_activity = true
+motion = \"random_walk\"
+position_noise_std = 0.2
+";
+
+/// [`SERVER_TOML`] read and checked.
+pub fn server_config() -> anyhow::Result<ServerConfig> {
+    let config: ServerConfig = toml::from_str(SERVER_TOML)?;
+    config.validate()?;
+    Ok(config)
+}
 
 /// The default room with its first two people and its four microphone pairs only, `duration_s`
 /// seconds long from [`START`].

@@ -13,9 +13,8 @@ use std::process::Command;
 use checker::processes::binary;
 use checker::raw_inputs::write_stereo_wav;
 use checker::replay_file;
-use checker::talker_room::{two_talker_room, START};
+use checker::talker_room::{server_config, two_talker_room, START};
 use evaluation::TRUTH_TOLERANCE_S;
-use fusion_server::config::{MotionKind, ServerConfig};
 use fusion_server::replay::replay;
 use gmphd::metrics::{ospa, MetricParams};
 use nalgebra::DVector;
@@ -27,18 +26,6 @@ use simulator::{Scenario, SensorSpec};
 const SECONDS: f64 = 40.0;
 /// Scored from here on: both talkers have appeared and talked by then.
 const SETTLED_S: f64 = 6.0;
-
-/// The server's configuration for a room of talkers, as its user would write it: talkers are
-/// followed by what they say, so their pauses are modelled (`filter.speech_activity`), and people
-/// who stand or stroll while talking are a random walk (`filter.motion`, 0.2 m/√s) rather than a
-/// constant velocity that a silent talker's track would coast away on.
-fn talker_config() -> ServerConfig {
-    let mut config = ServerConfig::default();
-    config.filter.speech_activity = true;
-    config.filter.motion = MotionKind::RandomWalk;
-    config.filter.position_noise_std = 0.2;
-    config
-}
 
 /// One pair's rendered audio through the real `edge-agent mic-pair --wav` (its front end, and the
 /// descriptor it announces, refined from its own output): its replay lines.
@@ -238,7 +225,7 @@ fn figures(tracks: &[TrackSet], truth: &[TruthSet], talkers: &[Talker]) -> (f64,
 /// Replays `input` with the talkers' configuration, prints its figures under `what` and returns
 /// the mean OSPA(x, y) and the share of sets with the right count (see [`figures`]).
 fn replayed_figures(input: &[u8], talkers: &[Talker], what: &str) -> (f64, f64) {
-    let report = replay(talker_config(), input, std::io::sink()).unwrap();
+    let report = replay(server_config().unwrap(), input, std::io::sink()).unwrap();
     assert_eq!(report.bad_lines, 0);
     let (ospa_xy, right, n) = figures(&report.tracks, &report.truth, talkers);
     println!(

@@ -84,22 +84,18 @@ def ospa(truth, tracks):
     return (d[rows, cols].sum() + abs(m - n)) / max(m, n)
 
 
-def score(scene_dir, tracks_path, truth_lines):
-    with open(f"{scene_dir}/scene.json") as f:
-        scene = json.load(f)
-    start = scene["start"]
-    truth = {l["truth"]["stamp"] - start: l["truth"]["objects"] for l in truth_lines}
-    times = np.array(sorted(truth))
+def score(scene_dir, tracks_path):
+    """Mean OSPA(x, y), share of right counts and number of the track sets after SETTLED_S stamped while
+    someone talks."""
+    paths = tdoa_truth.DirectPaths(scene_dir)
     total, right, n = 0.0, 0, 0
     with open(tracks_path) as f:
         for line in f:
             track_set = json.loads(line)
-            t = track_set["stamp"] - start
-            talking = any(a <= t < b for spurts in scene["spurts"] for a, b in spurts)
-            if t < SETTLED_S or not talking:
+            stamp = track_set["stamp"]
+            if stamp - paths.start < SETTLED_S or not paths.talking(stamp):
                 continue
-            objects = truth[times[np.argmin(np.abs(times - t))]]
-            x = np.array([o["position"][:2] for o in objects]).reshape(-1, 2)
+            x = np.array([o["position"][:2] for o in paths.objects_at(stamp)]).reshape(-1, 2)
             y = np.array([o["position"][:2] for o in track_set["tracks"]]).reshape(-1, 2)
             total += ospa(x, y)
             right += len(x) == len(y)
@@ -119,17 +115,17 @@ def run(args, scene):
         outputs = agent_lines(args, scene, start, work)
         shares = tdoa_truth.peak_shares(paths, outputs)
         lines = merged(truth_lines, tdoa_truth.substituted(paths, outputs, args.tdoas))
-        return (*replayed(args, scene, work, lines, truth_lines), shares)
+        return (*replayed(args, scene, work, lines), shares)
 
 
-def replayed(args, scene, work, lines, truth_lines):
+def replayed(args, scene, work, lines):
     """`fusion-server replay` of `lines` with the scene's configuration, scored."""
     with open(f"{work}/replay.jsonl", "w") as f:
         f.writelines(json.dumps(l) + "\n" for l in lines)
     subprocess.run([f"{args.bin}/fusion-server", "replay", "--config", f"{scene}/server.toml",
                     "--input", f"{work}/replay.jsonl", "--output", f"{work}/tracks.jsonl"],
                    check=True, capture_output=True, env=dict(os.environ, RUST_LOG="error"))
-    return score(scene, f"{work}/tracks.jsonl", truth_lines)
+    return score(scene, f"{work}/tracks.jsonl")
 
 
 def main():

@@ -45,10 +45,14 @@ class DirectPaths:
         t = stamp - self.start
         return any(a <= t < b for spurts in self.spurts for a, b in spurts)
 
+    def objects_at(self, stamp):
+        """The truth's objects of the truth set nearest to `stamp`."""
+        return self.truth[int(np.argmin(np.abs(self.stamps - stamp)))]["objects"]
+
     def tdoas(self, mics, speed_of_sound, stamp):
         """The direct-path TDOA, in seconds, of each talker talking at `stamp` (protocol sign)."""
         t = stamp - self.start
-        objects = self.truth[int(np.argmin(np.abs(self.stamps - stamp)))]["objects"]
+        objects = self.objects_at(stamp)
         m1, m2 = np.array(mics)
         out = []
         for talker, spurts in enumerate(self.spurts):
