@@ -109,6 +109,10 @@ impl Tracker {
             Some(occlusion) => filter.with_occlusion(occlusion?),
             None => filter,
         };
+        let filter = match f.echoes() {
+            Some(echoes) => filter.with_echoes(echoes)?,
+            None => filter,
+        };
         let filter = if f.label_existence {
             filter.with_label_existence()
         } else {

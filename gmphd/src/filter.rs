@@ -6,6 +6,7 @@ use std::ops::Range;
 use crate::activity::ActivityModel;
 use crate::adaptive_birth::{AdaptiveBirth, AdaptiveBirthConfig};
 use crate::birth::BirthModel;
+use crate::echoes::Echoes;
 use crate::error::FilterError;
 use crate::existence;
 use crate::gating::Gating;
@@ -135,6 +136,15 @@ impl GmPhdFilter {
     pub fn with_occlusion(mut self, occlusion: Occlusion) -> Self {
         self.updater.set_occlusion(Some(occlusion));
         self
+    }
+
+    /// Models the side peaks of sensors that measure a delay ([`crate::echoes`]): a
+    /// measurement δ to either side of a component's is also its detection. Meant with
+    /// [`GmPhdFilter::with_label_existence`].
+    pub fn with_echoes(mut self, echoes: Echoes) -> Result<Self, FilterError> {
+        echoes.validate()?;
+        self.updater.set_echoes(Some(echoes));
+        Ok(self)
     }
 
     /// Updates each label of at most one object's weight as a Bernoulli ([`crate::existence`]):

@@ -11,7 +11,7 @@ Writes to OUT: one stereo 16 kHz WAV and one SensorDescriptor (JSON) per pair, t
 replay lines (`truth.jsonl`, 25 Hz), `scene.json` (the talkers' spurts, the room) and
 `server.toml`, the fusion server's configuration a user would write for this room.
 
-    python3 make_scene.py OUT --seed 1 [--moving] [--room 3,3,2.5] [--mic-height 1.2]
+    python3 make_scene.py OUT --seed 1 [--moving] [--room 3,3,2.5] [--mic-height 1.2] [--inset 0.05]
 """
 
 import argparse
@@ -50,6 +50,7 @@ def arguments():
     parser.add_argument("--moving", action="store_true", help="talkers circle 0.3 m around their spot")
     parser.add_argument("--room", default="3,3,2.5", help="x,y,z size in metres")
     parser.add_argument("--mic-height", type=float, default=1.2)
+    parser.add_argument("--inset", type=float, default=0.05, help="metres from each pair to its wall")
     parser.add_argument("--t60", type=float, default=0.3)
     parser.add_argument("--snr", type=float, default=20.0, help="dB, over the samples with speech")
     parser.add_argument("--duration", type=float, default=40.0, help="seconds")
@@ -100,9 +101,9 @@ def talker_track(rng, voice, first_s, duration):
     return signal / np.sqrt(np.mean(signal[signal != 0] ** 2)), spurts
 
 
-def pairs_on_walls(room, height):
-    """One 0.5 m pair in the middle of each wall, 5 cm from it."""
-    inset, cx, cy = 0.05, room[0] / 2, room[1] / 2
+def pairs_on_walls(room, height, inset):
+    """One 0.5 m pair in the middle of each wall, `inset` metres from it."""
+    cx, cy = room[0] / 2, room[1] / 2
     return {
         "mics_s": [[cx - 0.25, inset, height], [cx + 0.25, inset, height]],
         "mics_e": [[room[0] - inset, cy - 0.25, height], [room[0] - inset, cy + 0.25, height]],
@@ -177,7 +178,7 @@ def main():
             for k, p in enumerate(spots)
         ]
 
-    for name, mics in pairs_on_walls(room, args.mic_height).items():
+    for name, mics in pairs_on_walls(room, args.mic_height, args.inset).items():
         write_wav(f"{args.out}/{name}.wav", render_pair(args, room, mics, dry, positions_at, rng))
         model = {"kind": "mic_pair", "mics": mics, "speed_of_sound": 343.0, "noise_std": 6.25e-5}
         descriptor = {"version": 1, "site": "speech_scene", "sensor": name, "model": model,

@@ -113,6 +113,10 @@ impl MeasurementModel for MicPair {
         true
     }
 
+    fn delay_entry(&self) -> Option<usize> {
+        Some(0)
+    }
+
     fn clutter_rate(&self) -> f64 {
         self.detection.clutter_rate
     }

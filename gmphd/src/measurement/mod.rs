@@ -139,6 +139,12 @@ pub trait MeasurementModel: Send + Sync + Debug {
         false
     }
 
+    /// The measurement entry that is a delay read off a correlation peak (a microphone pair's
+    /// TDOA), beside which side peaks appear ([`crate::echoes`]). `None` by default.
+    fn delay_entry(&self) -> Option<usize> {
+        None
+    }
+
     /// Mean number of clutter measurements per set (λ).
     fn clutter_rate(&self) -> f64;
 

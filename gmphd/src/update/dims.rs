@@ -155,6 +155,7 @@ mod tests {
             measurements: &measurements,
             index_dim: sensor.update_hints().index_dim,
             seen: &seen,
+            echoes: None,
         };
         let (mut a, mut b) = (Vec::new(), Vec::new());
         let scratch = &mut UpdateScratch::default();

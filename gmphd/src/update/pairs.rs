@@ -6,6 +6,7 @@ use nalgebra::{DMatrix, DefaultAllocator, Dim};
 use super::component::Detectable;
 use super::correction::Correction;
 use super::dims::{Dims, Storage};
+use crate::echoes::EchoShifts;
 use crate::gaussian::Gaussian;
 use crate::measurement::{Measurement, Residual};
 
@@ -19,6 +20,8 @@ pub(super) struct PairRules<'a> {
     pub(super) gate: f64,
     /// Pairs lighter than this are not emitted.
     pub(super) min_weight: f64,
+    /// The side-peak hypotheses of each pair, when the sensor's are modelled.
+    pub(super) echoes: Option<EchoShifts>,
 }
 
 /// Buffers reused from one measurement to the next (one per worker thread).
@@ -26,7 +29,8 @@ pub(super) struct PairRules<'a> {
 pub(super) struct Scratch {
     residual: Vec<f64>,
     whitened: Vec<f64>,
-    /// In-gate candidates: component index and log(p_D w q(z)).
+    /// In-gate candidates: component index and log(p_D w q(z)) (a side-peak hypothesis:
+    /// log(p_D w ρ q(z ∓ δ))).
     candidates: Vec<(usize, f64)>,
     /// Their residuals, `dim` entries each.
     candidate_residuals: Vec<f64>,
@@ -38,9 +42,10 @@ pub(super) struct Scratch {
 pub(super) struct MeasurementPairs {
     /// U(z), see [`UpdateOutcome::association`](super::UpdateOutcome::association).
     pub(super) association: f64,
-    /// Component index (into the detectable components) and posterior weight.
+    /// Component index (into the detectable components) and posterior weight; a component
+    /// may have three pairs with one measurement, as its direct path and as either side peak.
     pub(super) pairs: Vec<(usize, f64)>,
-    /// Their residuals z − ẑ, `dim` entries each, in pair order.
+    /// Their residuals z − ẑ (a side peak's: z ∓ δ − ẑ), `dim` entries each, in pair order.
     pub(super) residuals: Vec<f64>,
 }
 
@@ -65,18 +70,11 @@ where
             detectable,
             nearby.iter().map(|&k| k as usize),
             measurement,
-            rules.residual,
+            rules,
             rules.gate,
             scratch,
         ),
-        None => gate_candidates(
-            detectable,
-            all(),
-            measurement,
-            rules.residual,
-            rules.gate,
-            scratch,
-        ),
+        None => gate_candidates(detectable, all(), measurement, rules, rules.gate, scratch),
     }
     if scratch.candidates.is_empty()
         && rules.log_clutter == f64::NEG_INFINITY
@@ -88,7 +86,7 @@ where
             detectable,
             all(),
             measurement,
-            rules.residual,
+            rules,
             f64::INFINITY,
             scratch,
         );
@@ -104,12 +102,13 @@ fn measurement_size<D: Dims>(measurement: &Measurement) -> usize {
 }
 
 /// Fills `scratch.candidates` (and their residuals) with the pairs of `measurement`
-/// with the components `indices` (ascending) that lie inside the gate `gate`.
+/// with the components `indices` (ascending) that lie inside the gate `gate`, each as its
+/// direct path and, with `rules.echoes`, as either of its side peaks.
 fn gate_candidates<D: Dims>(
     detectable: &[Detectable<'_, D>],
     indices: impl Iterator<Item = usize>,
     measurement: &Measurement,
-    residual_of: Residual<'_>,
+    rules: &PairRules<'_>,
     gate: f64,
     scratch: &mut Scratch,
 ) where
@@ -126,22 +125,49 @@ fn gate_candidates<D: Dims>(
     let z = &measurement.z.as_slice()[..dim];
     for k in indices {
         let d = &detectable[k];
-        residual_of.write(z, &d.predicted_z()[..dim], residual);
-        let log_q = match &measurement.cov {
-            None => {
-                if gate < f64::INFINITY && d.innovation.outside_box(residual) {
-                    continue;
-                }
-                d.innovation
-                    .distance_sq(residual, whitened, gate)
-                    .map(|distance| d.innovation.log_density(distance))
-            }
-            Some(noise) => own_noise_log_density(d, noise, gate, residual, whitened),
-        };
-        if let Some(log_q) = log_q {
+        rules.residual.write(z, &d.predicted_z()[..dim], residual);
+        if let Some(log_q) = log_density(d, measurement, gate, residual, whitened) {
             scratch.candidates.push((k, d.log_prior + log_q));
             scratch.candidate_residuals.extend_from_slice(residual);
         }
+        let Some(echoes) = rules.echoes.filter(|e| e.beside(d.component)) else {
+            continue;
+        };
+        let direct = residual[echoes.entry];
+        for shift in echoes.residual_shifts() {
+            residual[echoes.entry] = direct + shift;
+            if let Some(log_q) = log_density(d, measurement, gate, residual, whitened) {
+                scratch
+                    .candidates
+                    .push((k, d.log_prior + echoes.log_rate + log_q));
+                scratch.candidate_residuals.extend_from_slice(residual);
+            }
+        }
+    }
+}
+
+/// log q of a pair with the residual `residual`, or `None` outside the gate `gate`
+/// (`whitened` is scratch of its size).
+fn log_density<D: Dims>(
+    d: &Detectable<'_, D>,
+    measurement: &Measurement,
+    gate: f64,
+    residual: &[f64],
+    whitened: &mut [f64],
+) -> Option<f64>
+where
+    DefaultAllocator: Storage<D>,
+{
+    match &measurement.cov {
+        None => {
+            if gate < f64::INFINITY && d.innovation.outside_box(residual) {
+                return None;
+            }
+            d.innovation
+                .distance_sq(residual, whitened, gate)
+                .map(|distance| d.innovation.log_density(distance))
+        }
+        Some(noise) => own_noise_log_density(d, noise, gate, residual, whitened),
     }
 }
 

@@ -13,6 +13,7 @@ use super::pairs::{self, MeasurementPairs, PairRules, Scratch};
 use super::parallel::{self, CORRECTION_NS, LINEAR_COMPONENT_NS, PAIR_NS, UNSCENTED_COMPONENT_NS};
 use super::unscented::{self, UnscentedScratch};
 use super::UpdateStep;
+use crate::echoes::EchoShifts;
 use crate::error::FilterError;
 use crate::gaussian::Gaussian;
 use crate::measurement::{Measurement, Residual};
@@ -36,6 +37,8 @@ pub(super) struct Work<'w, 'p> {
     pub(super) index_dim: Option<usize>,
     /// The detectable components: index in the predicted mixture, component, log(p_D w).
     pub(super) seen: &'w [(usize, &'p Gaussian, f64)],
+    /// The sensor's side peaks, when modelled.
+    pub(super) echoes: Option<EchoShifts>,
 }
 
 /// U(z) of every measurement, appending the detection children to `children`, on the
@@ -171,12 +174,14 @@ where
         log_clutter: sensor.clutter_intensity().ln(),
         gate: work.gate,
         min_weight: work.min_weight,
+        echoes: work.echoes,
     };
     // With a gate, each measurement meets only the components whose gate reaches it along
-    // the sensor's index dimension; the rest would fail the box test anyway.
+    // the sensor's index dimension; the rest would fail the box test anyway. (Not so for
+    // side peaks, which lie δ away: with them every pair is tested.)
     let index = work
         .index_dim
-        .filter(|_| work.gate < f64::INFINITY)
+        .filter(|_| work.gate < f64::INFINITY && work.echoes.is_none())
         .map(|dim| CandidateIndex::build(detectable, work.measurements, dim));
     let nearby = |j: usize| index.as_ref().and_then(|index| index.candidates(j));
     let pair_count: usize = (0..work.measurements.len())

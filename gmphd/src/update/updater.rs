@@ -10,6 +10,7 @@ use super::dims::{Dynamic, Fixed};
 use super::sized::{update_sized, UpdateScratch, Work};
 use super::{Missed, UpdateOutcome, UpdateParts, UpdateStep};
 use crate::activity;
+use crate::echoes::{EchoShifts, Echoes};
 use crate::error::FilterError;
 use crate::gating::Gating;
 use crate::gaussian::{Gaussian, GaussianMixture};
@@ -43,6 +44,8 @@ pub struct Updater {
     static_births: Range<usize>,
     /// How nearer objects lower p_D behind them, when modelled.
     occlusion: Option<Occlusion>,
+    /// The side peaks of sensors that measure a delay, when modelled.
+    echoes: Option<Echoes>,
 }
 
 /// The serial path's buffers (not part of the updater's debug output).
@@ -67,6 +70,7 @@ impl Updater {
             projections: BirthProjections::default(),
             static_births: 0..0,
             occlusion: None,
+            echoes: None,
         })
     }
 
@@ -74,6 +78,13 @@ impl Updater {
     /// sensor with a line of sight ([`crate::occlusion`]).
     pub fn set_occlusion(&mut self, occlusion: Option<Occlusion>) {
         self.occlusion = occlusion;
+    }
+
+    /// Gives each component of a sensor that measures a delay
+    /// ([`MeasurementModel::delay_entry`]) the side peaks `echoes` beside its direct path
+    /// ([`crate::echoes`]).
+    pub fn set_echoes(&mut self, echoes: Option<Echoes>) {
+        self.echoes = echoes;
     }
 
     /// The gating of component–measurement pairs.
@@ -174,6 +185,10 @@ impl Updater {
             measurements,
             index_dim,
             seen: &seen,
+            echoes: self
+                .echoes
+                .zip(sensor.delay_entry())
+                .map(|(echoes, entry)| EchoShifts::new(echoes, entry)),
         };
         // (The remembered projections are checked against each component, so a stale range
         // costs only the check.)
