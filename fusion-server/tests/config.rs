@@ -90,6 +90,14 @@ fn bad_values_name_their_key() {
             "[filter]\nadaptive_birth_velocity_std = 0\n",
             "filter.adaptive_birth_velocity_std",
         ),
+        (
+            "[filter]\ntdoa_side_peak_offset_s = -1e-4\n",
+            "filter.tdoa_side_peak_offset_s",
+        ),
+        (
+            "[filter]\ntdoa_side_peak_rate = 0\n",
+            "filter.tdoa_side_peak_rate",
+        ),
         ("[zenoh]\nmode = \"router\"\n", "zenoh.mode"),
         ("[zenoh]\nconnect = [\"localhost\"]\n", "zenoh.connect"),
         ("[site]\nname = \"a/b\"\n", "site.name"),

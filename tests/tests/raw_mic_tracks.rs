@@ -248,14 +248,15 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
         let (input, talkers) = replay_file(&scenario, seed);
         let what = format!("seed {seed}");
         let (ospa_xy, right) = replayed_figures(server_config().unwrap(), &input, &talkers, &what);
-        // Floors under today's figures (0.56-0.59 m, 39-50 %), far from the goal of 0.25 m and 80 %: they
+        // Floors under today's figures (0.49-0.54 m, 48-59 %; 0.56-0.59 m and 39-50 % without the model
+        // of side peaks, `filter.tdoa_side_peak_offset_s`), far from the goal of 0.25 m and 80 %: they
         // catch a chain gone worse. The pairs send at most three TDOAs a frame (`max_peaks`); four do
         // better here (53 against 49 % over seeds 1-5), where the talkers' direct paths are weak peaks,
         // and worse on speech synthesized elsewhere (tools/speech_scene: 63 against 71 % on fifteen
         // scenes, 56 against 70 % on ten more). Exact TDOAs in place of the front end's give 0.16-0.24 m
         // and 77-90 % (the test below).
-        assert!(ospa_xy <= 0.62, "mean OSPA(x, y) {ospa_xy:.3} m");
-        assert!(right >= 0.35, "count right in {:.0} %", 100.0 * right);
+        assert!(ospa_xy <= 0.58, "mean OSPA(x, y) {ospa_xy:.3} m");
+        assert!(right >= 0.42, "count right in {:.0} %", 100.0 * right);
     }
 }
 
@@ -327,9 +328,9 @@ fn the_front_ends_misses_and_its_clutter_each_alone() {
                 &talkers,
                 &format!("seed {seed}, {what} of the front end"),
             );
-            // A ceiling over today's figures: the TDOAs a talker explains alone 0.51-0.68 m and
+            // A ceiling over today's figures: the TDOAs a talker explains alone 0.52-0.65 m and
             // 0-30 % (a talker heard in fewer than half the frames: one track jumps from talker to
-            // talker), the exact TDOAs with the clutter 0.31-0.42 m and 58-61 %. Either half of
+            // talker), the exact TDOAs with the clutter 0.34-0.42 m and 61-70 %. Either half of
             // what the front end gets wrong costs most of the goal on its own.
             assert!(ospa_xy <= 0.7, "mean OSPA(x, y) {ospa_xy:.3} m");
         }
