@@ -15,6 +15,10 @@ const P_D: f64 = 0.8;
 const WEIGHT: f64 = 0.9;
 const OFFSET: f64 = 2.8e-4;
 const RATE: f64 = 0.4;
+const ECHOES: Echoes = Echoes {
+    offset: OFFSET,
+    rate: RATE,
+};
 
 fn pair() -> MicPair {
     let detection = Detection::new(P_D, CLUTTER_RATE).unwrap();
@@ -85,16 +89,12 @@ fn predicted_tdoa() -> f64 {
 
 #[test]
 fn a_side_peak_updates_its_talker_where_its_direct_path_would() {
-    let echoes = Echoes {
-        offset: OFFSET,
-        rate: RATE,
-    };
     let predicted = predicted_tdoa();
     let (plain, _) = children(None, predicted);
     assert!((plain[0].mean[0] - 1.0).abs() < 1e-9, "{}", plain[0].mean);
     // A side peak δ above the prediction: the talker's children are its direct path (residual
     // δ), its lower side peak (residual 0) and its upper one (residual 2δ).
-    let (sided, _) = children(Some(echoes), predicted + OFFSET);
+    let (sided, _) = children(Some(ECHOES), predicted + OFFSET);
     assert_eq!(sided.len(), 3);
     let (as_direct, _) = children(None, predicted + OFFSET);
     assert!((&sided[0].mean - &as_direct[0].mean).norm() < 1e-9);
@@ -114,12 +114,8 @@ fn a_side_peak_updates_its_talker_where_its_direct_path_would() {
 
 #[test]
 fn a_measurement_at_the_prediction_stays_mostly_a_direct_path() {
-    let echoes = Echoes {
-        offset: OFFSET,
-        rate: RATE,
-    };
     let predicted = predicted_tdoa();
-    let (sided, association) = children(Some(echoes), predicted);
+    let (sided, association) = children(Some(ECHOES), predicted);
     let (_, plain_association) = children(None, predicted);
     // Side-peak hypotheses δ away only add to how well the talker explains z.
     assert!(association >= plain_association);
