@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, DefaultAllocator, Dim};
 
-use super::component::Detectable;
+use super::component::{Detectable, Innovation};
 use super::correction::Correction;
 use super::dims::{Dims, Storage};
 use crate::echoes::EchoShifts;
@@ -126,7 +126,8 @@ fn gate_candidates<D: Dims>(
     for k in indices {
         let d = &detectable[k];
         rules.residual.write(z, &d.predicted_z()[..dim], residual);
-        if let Some(log_q) = log_density(d, measurement, gate, residual, whitened) {
+        let mut density = PairDensity::new(d, measurement, gate);
+        if let Some(log_q) = density.log_q(residual, whitened) {
             scratch.candidates.push((k, d.log_prior + log_q));
             scratch.candidate_residuals.extend_from_slice(residual);
         }
@@ -136,38 +137,13 @@ fn gate_candidates<D: Dims>(
         let direct = residual[echoes.entry];
         for shift in echoes.residual_shifts() {
             residual[echoes.entry] = direct + shift;
-            if let Some(log_q) = log_density(d, measurement, gate, residual, whitened) {
+            if let Some(log_q) = density.log_q(residual, whitened) {
                 scratch
                     .candidates
                     .push((k, d.log_prior + echoes.log_rate + log_q));
                 scratch.candidate_residuals.extend_from_slice(residual);
             }
         }
-    }
-}
-
-/// log q of a pair with the residual `residual`, or `None` outside the gate `gate`
-/// (`whitened` is scratch of its size).
-fn log_density<D: Dims>(
-    d: &Detectable<'_, D>,
-    measurement: &Measurement,
-    gate: f64,
-    residual: &[f64],
-    whitened: &mut [f64],
-) -> Option<f64>
-where
-    DefaultAllocator: Storage<D>,
-{
-    match &measurement.cov {
-        None => {
-            if gate < f64::INFINITY && d.innovation.outside_box(residual) {
-                return None;
-            }
-            d.innovation
-                .distance_sq(residual, whitened, gate)
-                .map(|distance| d.innovation.log_density(distance))
-        }
-        Some(noise) => own_noise_log_density(d, noise, gate, residual, whitened),
     }
 }
 
@@ -213,29 +189,58 @@ fn weigh(dim: usize, rules: &PairRules<'_>, scratch: &mut Scratch) -> Measuremen
     kept
 }
 
-/// log q(z) of a pair whose measurement carries its own noise `noise`, or `None` outside
-/// the gate, for the residual `residual` (`whitened` is scratch of its size).
-fn own_noise_log_density<D: Dims>(
-    d: &Detectable<'_, D>,
-    noise: &DMatrix<f64>,
-    gate: f64,
-    residual: &[f64],
-    whitened: &mut [f64],
-) -> Option<f64>
+/// log q of one component's pairs with one measurement, for any residual tried (its direct
+/// path and its side peaks). A measurement with its own noise needs an innovation of its own:
+/// it is factored once, when a residual first falls inside the gate's bounding box.
+struct PairDensity<'a, 'p, D: Dims>
 where
     DefaultAllocator: Storage<D>,
 {
-    let outside = residual.iter().enumerate().any(|(i, r)| {
-        let variance = d.z_cov(i, i) + noise[(i, i)];
-        r.abs() > (gate * variance).sqrt()
-    });
-    if outside {
-        return None;
+    d: &'a Detectable<'p, D>,
+    noise: Option<&'a DMatrix<f64>>,
+    own: Option<Innovation<D>>,
+    gate: f64,
+}
+
+impl<'a, 'p, D: Dims> PairDensity<'a, 'p, D>
+where
+    DefaultAllocator: Storage<D>,
+{
+    fn new(d: &'a Detectable<'p, D>, measurement: &'a Measurement, gate: f64) -> Self {
+        Self {
+            d,
+            noise: measurement.cov.as_ref(),
+            own: None,
+            gate,
+        }
     }
-    let innovation = d.innovation_with(noise, gate);
-    innovation
-        .distance_sq(residual, whitened, gate)
-        .map(|distance| innovation.log_density(distance))
+
+    /// log q of `residual`, or `None` outside the gate (`whitened` is scratch of its size).
+    fn log_q(&mut self, residual: &[f64], whitened: &mut [f64]) -> Option<f64> {
+        let innovation = match self.noise {
+            None => &self.d.innovation,
+            Some(noise) => {
+                if self.own.is_none() {
+                    let d = self.d;
+                    let outside = residual.iter().enumerate().any(|(i, r)| {
+                        let variance = d.z_cov(i, i) + noise[(i, i)];
+                        r.abs() > (self.gate * variance).sqrt()
+                    });
+                    if outside {
+                        return None;
+                    }
+                    self.own = Some(d.innovation_with(noise, self.gate));
+                }
+                self.own.as_ref().expect("factored above")
+            }
+        };
+        if self.gate < f64::INFINITY && innovation.outside_box(residual) {
+            return None;
+        }
+        innovation
+            .distance_sq(residual, whitened, self.gate)
+            .map(|distance| innovation.log_density(distance))
+    }
 }
 
 /// Counts in `children` the kept pairs with the default noise of each component (those
