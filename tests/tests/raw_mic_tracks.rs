@@ -248,15 +248,15 @@ fn two_talkers_are_tracked_from_the_rendered_audio() {
         let (input, talkers) = replay_file(&scenario, seed);
         let what = format!("seed {seed}");
         let (ospa_xy, right) = replayed_figures(server_config().unwrap(), &input, &talkers, &what);
-        // Floors under today's figures (0.49-0.54 m, 48-59 %; 0.56-0.59 m and 39-50 % without the model
-        // of side peaks, `filter.tdoa_side_peak_offset_s`), far from the goal of 0.25 m and 80 %: they
-        // catch a chain gone worse. The pairs send at most three TDOAs a frame (`max_peaks`); four do
-        // better here (53 against 49 % over seeds 1-5), where the talkers' direct paths are weak peaks,
-        // and worse on speech synthesized elsewhere (tools/speech_scene: 63 against 71 % on fifteen
-        // scenes, 56 against 70 % on ten more). Exact TDOAs in place of the front end's give 0.16-0.24 m
-        // and 77-90 % (the test below).
+        // Floors under today's figures (0.38-0.53 m, 37-76 %; over seeds 1-5 0.464 m and 59 %, over
+        // seeds 6-10 0.484 m and 51 %), far from the goal of 0.25 m and 80 %: they catch a chain gone
+        // worse. A seed's count right moves by 20 points and more with small changes; before the
+        // voices were radiated by the lips (`simulator::render::speech`), when most of their power
+        // lay below 100 Hz and the SNR left the speech band some 10 dB above the noise, seeds 1-3
+        // gave 0.49-0.54 m and 48-59 % (seeds 1-5 0.513 m and 53 %). Exact TDOAs in place of the
+        // front end's give 0.16-0.24 m and 77-90 % (the test below).
         assert!(ospa_xy <= 0.58, "mean OSPA(x, y) {ospa_xy:.3} m");
-        assert!(right >= 0.42, "count right in {:.0} %", 100.0 * right);
+        assert!(right >= 0.33, "count right in {:.0} %", 100.0 * right);
     }
 }
 
