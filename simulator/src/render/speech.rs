@@ -1,7 +1,7 @@
 //! A seeded, speech-like signal. Syllables are an optional fricative (band-passed noise) followed
-//! by a vowel: a glottal pulse train with gliding, slightly jittered pitch and a little breath noise, radiated by
-//! the lips and shaped by a parallel bank of four formant resonators. Syllables follow each other at a syllabic rhythm with short pauses
-//! and occasional longer ones.
+//! by a vowel: a glottal pulse train with gliding, slightly jittered pitch and a little breath noise,
+//! radiated by the lips and shaped by a parallel bank of four formant resonators. Syllables follow
+//! each other at a syllabic rhythm with short pauses and occasional longer ones.
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
