@@ -10,20 +10,26 @@
 //! it was unsure of fades as fast as before (for small `r`, `r_miss ≈ r L`); and a detection
 //! makes the miss hypothesis unlikely instead of adding to it.
 //!
-//! Applied per label after each update, to labels of at most one object (prior weight
-//! `W ≤ 1`): with `r = min(W, `[`MAX_EXISTENCE`]`)`,
-//! `M` the weight of its missed-detection copies, `L = M / W`, and `D` the weight of its
-//! detection children — the PHD's probability that the label produced one of the
-//! measurements — the label's posterior weight is `D + (1 − D) r_miss` (`D` at most 1): the
-//! children keep theirs (scaled down to 1 in all when they sum above it) and the copies share
-//! `(1 − D) r_miss`. What this buys is patience with correlated misses — a talker's pause
-//! ([`crate::activity`]), a person a camera cannot see for a while — without the mass that
-//! missed-detection copies would pile up when misses cost little.
+//! Applied per label after each update: with `W` its prior weight, `r = min(W, 1,`
+//! [`MAX_EXISTENCE`]`)`, `M` the weight of its missed-detection copies, `L = M / W`, and `D`
+//! the weight of its detection children — the PHD's probability that the label produced one
+//! of the measurements — the label's first object weighs `D₁ + (1 − D₁) r_miss` after the
+//! update, `D₁ = min(D, 1)`. What this buys is patience with correlated misses — a talker's
+//! pause ([`crate::activity`]), a person a camera cannot see for a while — without the mass
+//! that missed-detection copies would pile up when misses cost little.
 //!
-//! A heavier label holds several objects (people who shared a label since they crossed): it is
-//! only kept from growing — the update leaves it no heavier than it was, its detections first —
-//! since the PHD's missed-detection copies beside its detections would otherwise add to it at
-//! every set in which misses cost little.
+//! What a label holds beyond one object (`W − 1`, when `W > 1`) is updated as in the PHD but
+//! left no heavier than it was, its detections first: `D − D₁` of the children, at most
+//! `W − 1`, and `L (W − 1)` of the copies, at most what the children leave. A label weighs
+//! more than 1 when people shared it since they crossed, and often a little over 1 for one
+//! object (a birth component merged into it, detections of one set summing above one); were
+//! such a label left wholly to the PHD's update, one miss would cut a talker's track of weight
+//! 1.05 to 0.3, and the track be lost or taken over by the other talker (on two-talker rooms,
+//! `tools/speech_scene/`, 15 scenes with only the TDOAs that are a talker's direct path, the
+//! count right in 79 % of the frames that way against 96 %).
+//!
+//! The children keep their weights unless they sum above what the label may hold, and the
+//! copies share the rest.
 
 use crate::gaussian::{GaussianMixture, Label};
 
@@ -79,40 +85,33 @@ fn scales(prior: f64, missed: f64, detected: f64) -> Option<Scales> {
     if prior.is_nan() || prior <= 0.0 {
         return None;
     }
-    if prior > 1.0 {
-        return Some(no_heavier(prior, missed, detected));
-    }
-    let existence = prior.min(MAX_EXISTENCE);
     let likelihood = (missed / prior).min(1.0);
+    // The label's first object, a Bernoulli: its detection, else its miss.
+    let first = prior.min(1.0);
+    let existence = first.min(MAX_EXISTENCE);
     let r_miss = existence * likelihood / (1.0 - existence + existence * likelihood);
-    let d = detected.min(1.0);
+    let detected_first = detected.min(1.0);
+    let missed_first = (1.0 - detected_first) * r_miss;
+    // Whatever the label holds beyond one object: the PHD's update, no heavier than before.
+    let rest = prior - first;
+    let detected_rest = (detected - detected_first).min(rest);
+    let missed_rest = (likelihood * rest).min(rest - detected_rest);
     Some(Scales {
         missed: if missed > 0.0 {
-            (1.0 - d) * r_miss / missed
+            (missed_first + missed_rest) / missed
         } else {
             1.0
         },
-        children: if detected > 1.0 { 1.0 / detected } else { 1.0 },
+        children: if detected > 0.0 {
+            (detected_first + detected_rest) / detected
+        } else {
+            1.0
+        },
     })
 }
 
-/// The scale factors of a label of more than one object: the update leaves it no heavier
-/// than it was, the detections first.
-fn no_heavier(prior: f64, missed: f64, detected: f64) -> Scales {
-    let children = if detected > prior {
-        prior / detected
-    } else {
-        1.0
-    };
-    let room = (prior - detected.min(prior)).max(0.0);
-    Scales {
-        missed: if missed > room { room / missed } else { 1.0 },
-        children,
-    }
-}
-
-/// Rescales every label of `posterior` as the module documentation says: a Bernoulli for a
-/// label of at most one object, no heavier than before for others. `prior` is each label's
+/// Rescales every label of `posterior` as the module documentation says: its first object a
+/// Bernoulli, anything beyond it no heavier than before. `prior` is each label's
 /// weight before the update, as [`label_weights`] gives it; the first `missed` components of
 /// `posterior` are the missed-detection copies, the rest detection children.
 pub fn bernoulli_labels(prior: &[(Label, f64)], posterior: &mut GaussianMixture, missed: usize) {
@@ -197,18 +196,38 @@ mod tests {
     #[test]
     fn an_unsure_label_fades_as_in_the_phd_and_heavy_labels_do_not_grow() {
         let prior = label_weights(&mixture(&[(0.01, 1), (3.0, 3)]));
-        // Both missed (p_D 0.9); label 3 holds more than one object.
+        // Both missed (p_D 0.9, L = 0.1); label 3 holds three objects: its first keeps
+        // r_miss = 0.99 · 0.1 / (0.01 + 0.099), the other two the PHD's 0.1 each.
         let mut posterior = mixture(&[(0.001, 1), (0.3, 3)]);
         bernoulli_labels(&prior, &mut posterior, 2);
         let phd_fade = 0.001;
         assert!((posterior.components[0].weight - phd_fade).abs() / phd_fade < 0.01);
-        assert_eq!(posterior.components[1].weight, 0.3);
+        let first = 0.99 * 0.1 / (0.01 + 0.99 * 0.1);
+        assert!((posterior.components[1].weight - (first + 0.2)).abs() < 1e-12);
         // A label of two objects, both detected: its missed copies give way to the detections.
         let prior = label_weights(&mixture(&[(2.0, 4)]));
         let mut posterior = mixture(&[(0.6, 4), (1.0, 4), (0.9, 4)]);
         bernoulli_labels(&prior, &mut posterior, 1);
         assert!((posterior.components[0].weight - 0.1).abs() < 1e-12);
         assert!((posterior.total_weight() - 2.0).abs() < 1e-12);
+        // Children heavier than the label are scaled down to its weight.
+        let prior = label_weights(&mixture(&[(1.3, 5)]));
+        let mut posterior = mixture(&[(0.39, 5), (1.6, 5)]);
+        bernoulli_labels(&prior, &mut posterior, 1);
+        assert_eq!(posterior.components[0].weight, 0.0);
+        assert!((posterior.components[1].weight - 1.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_label_a_little_over_one_keeps_its_object_through_a_miss() {
+        // Weight 1.05 (a birth merged in), missed with p_D 0.7 (L = 0.3): its object is a
+        // Bernoulli of r = 0.99, the 0.05 beyond it fades as in the PHD; the PHD alone would
+        // leave 0.315.
+        let prior = label_weights(&mixture(&[(1.05, 1)]));
+        let mut posterior = mixture(&[(0.315, 1)]);
+        bernoulli_labels(&prior, &mut posterior, 1);
+        let expected = 0.99 * 0.3 / (0.01 + 0.99 * 0.3) + 0.05 * 0.3;
+        assert!((posterior.total_weight() - expected).abs() < 1e-12);
     }
 
     #[test]

@@ -147,7 +147,7 @@ impl GmPhdFilter {
         Ok(self)
     }
 
-    /// Updates each label of at most one object's weight as a Bernoulli ([`crate::existence`]):
+    /// Updates each label's first object as a Bernoulli ([`crate::existence`]):
     /// a track the filter was sure of outlasts a run of misses, and a detected label does
     /// not keep its missed-detection copies' weight on top of its detection's.
     pub fn with_label_existence(mut self) -> Self {

@@ -113,7 +113,7 @@ pub struct FilterConfig {
     pub tdoa_side_peak_offset_s: f64,
     /// Expected side peaks on each side per detected direct path (`gmphd::echoes`).
     pub tdoa_side_peak_rate: f64,
-    /// Each label's weight after an update is that of a Bernoulli (`gmphd::existence`, as in the
+    /// Each label's first object is updated as a Bernoulli (`gmphd::existence`, as in the
     /// labelled multi-Bernoulli filter) rather than the PHD's: a track the filter was sure of
     /// outlasts a run of misses, and a detected label keeps no missed-detection weight on top.
     pub label_existence: bool,
