@@ -11,15 +11,15 @@ pub const START: f64 = 1_763_700_000.0;
 
 /// The server's configuration for this room of talkers, as its user would write it: talkers are
 /// followed by what they say, so their pauses are modelled (`filter.speech_activity`), and people
-/// who stand or stroll while talking are a random walk (`filter.motion`, 0.2 m/√s) rather than a
-/// constant velocity that a silent talker's track would coast away on.
+/// who walk about while talking are a random walk (`filter.motion`, 0.15 m/√s; 0.1 for talkers who
+/// stand) rather than a constant velocity that a silent talker's track would coast away on.
 pub const SERVER_TOML: &str = "[site]
 name = \"default\"
 
 [filter]
 speech_activity = true
 motion = \"random_walk\"
-position_noise_std = 0.2
+position_noise_std = 0.15
 ";
 
 /// [`SERVER_TOML`] read and checked.

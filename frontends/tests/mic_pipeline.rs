@@ -14,7 +14,7 @@ fn a_config_with_only_the_mic_distance_takes_the_documented_defaults() {
     assert_eq!(config.interpolation, 8);
     assert_eq!(config.max_peaks, 3);
     assert_eq!(config.peak_threshold, 0.07);
-    assert_eq!(config.relative_peak_threshold, 0.6);
+    assert_eq!(config.relative_peak_threshold, 0.9);
     assert_eq!(config.pooling_time_constant, 0.0);
     assert!(config.noise_by_peak_height);
     assert_eq!(config.min_frequency, 100.0);

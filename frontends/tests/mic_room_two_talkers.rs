@@ -14,7 +14,7 @@ use simulator::render::speech::Voice;
 /// Two samples at 16 kHz: how close a reported peak must be to a talker's true TDOA.
 const TOLERANCE_S: f64 = 2.0 / 16_000.0;
 /// Per cent of its active frames in which each talker must be among the TDOAs of the default configuration.
-const FLOOR_WITH_DEFAULTS: f64 = 55.0;
+const FLOOR_WITH_DEFAULTS: f64 = 50.0;
 
 /// A lower voice on the mic-1 side speaking first, a higher one on the mic-2 side later, overlapping 4.0–7.5 s.
 fn two_talkers() -> Vec<TalkerSpec> {
@@ -61,24 +61,22 @@ fn room_reverberation_time_is_near_the_target() {
 #[test]
 fn each_active_talker_is_found_in_most_of_its_frames() {
     // Among every peak of a frame (`relative_peak_threshold` 0, up to four), whole-frame PHAT finds both
-    // talkers of this mildly reverberant room (T60 0.15 s) in at least 80 % of their frames; the default
-    // coherence-weighted segments, chosen for the default room's T60 of 0.3 s, lose some of the end-fire
-    // talker here (73 %) and are held to 70 %. The defaults also leave out peaks below 0.6 of the frame's
-    // highest: the quieter talker of a frame in which the other is much louder goes with the echoes (65 %,
-    // held to 60 %), and the TDOAs per frame fall from 3.3 to 2.6 (`MicPairConfig::relative_peak_threshold`:
-    // the fusion gains more from the clutter it is spared than it loses with these misses). At most three
-    // peaks a frame, the default, find it in 62 % (held to 55 %) with 2.2 TDOAs a frame.
+    // talkers of this mildly reverberant room (T60 0.15 s) in at least 80 % of their frames (92-96 %); the
+    // default coherence-weighted segments, chosen for the default room's T60 of 0.3 s, lose some of the
+    // end-fire talker here (85 %) and are held to 70 %. Leaving out peaks below 0.6 of the frame's
+    // highest, the quieter talker of a frame in which the other is much louder goes with the echoes (81 %,
+    // held to 60 %; 77 % with three peaks a frame, held to 55 %). The defaults leave out peaks below 0.9
+    // of the highest (`MicPairConfig::relative_peak_threshold`: the fusion, which keeps a talker through
+    // the frames that miss it, gains more from the clutter it is spared than it loses with these misses):
+    // the end-fire talker is then found in 58 % of its frames, held to 50 %.
     let every_peak = 0.0;
     let defaults = MicPairConfig::new(0.5);
+    let sixty_per_cent = 0.6;
     for (segment_duration, relative_peak_threshold, max_peaks, floor) in [
         (0.0, every_peak, 4, 80.0),
         (defaults.segment_duration, every_peak, 4, 70.0),
-        (
-            defaults.segment_duration,
-            defaults.relative_peak_threshold,
-            4,
-            60.0,
-        ),
+        (defaults.segment_duration, sixty_per_cent, 4, 60.0),
+        (defaults.segment_duration, sixty_per_cent, 3, 55.0),
         (
             defaults.segment_duration,
             defaults.relative_peak_threshold,
