@@ -60,10 +60,11 @@ pub struct MicPairConfig {
     /// track through the frames that miss it (`filter.speech_activity`, each label a Bernoulli), gains more
     /// from sure TDOAs than from found ones. Measured with the talker configuration of the README
     /// (`random_walk` at 0.1 m/√s) on speech synthesized by espeak-ng through pyroomacoustics' image-source
-    /// rooms (`tools/speech_scene/`: 25 scenes, T60 0.3 s, SNR 20 dB): OSPA(x, y) 0.238 m and the count
-    /// right in 86.0 % of the talking frames, against 0.254 m and 80.3 % with 0.8 and 0.328 m and 65.3 %
-    /// with 0.6 (more ghosts); on the rendered default room (seeds 1–10) 0.420 m and 60.5 %, against
-    /// 0.443 m and 59.7 % with 0.8 and 0.428 m and 59.3 % with 0.6.
+    /// rooms (`tools/speech_scene/`: 25 scenes, T60 0.3 s, SNR 20 dB): OSPA(x, y) 0.243 m and the count
+    /// right in 85.1 % of the talking frames, against 0.244 m and 81.2 % with 0.8 and 0.340 m and 55.0 %
+    /// with 0.6 (more ghosts). On the rendered default room, whose talkers walk (0.15 m/√s; seeds 1–10),
+    /// 0.438 m and 56.7 %, against 0.451 m and 59.4 % with 0.8 and 0.450 m and 63.3 % with 0.6: its
+    /// direct paths are weaker peaks. The default follows the speech made outside the project.
     #[serde(default = "default_relative_peak_threshold")]
     pub relative_peak_threshold: f64,
     /// Lowest frequency in Hz used in the correlation. Default 100: below it speech has little energy and
