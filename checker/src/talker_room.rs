@@ -12,7 +12,9 @@ pub const START: f64 = 1_763_700_000.0;
 /// The server's configuration for this room of talkers, as its user would write it: talkers are
 /// followed by what they say, so their pauses are modelled (`filter.speech_activity`), and people
 /// who walk about while talking are a random walk (`filter.motion`, 0.15 m/√s; 0.1 for talkers who
-/// stand) rather than a constant velocity that a silent talker's track would coast away on.
+/// stand) rather than a constant velocity that a silent talker's track would coast away on. Few people
+/// come in (`filter.birth_rate` 0.05 a second): every birth component is a candidate for a ghost at the
+/// crossing of two talkers' hyperbolas.
 pub const SERVER_TOML: &str = "[site]
 name = \"default\"
 
@@ -20,6 +22,7 @@ name = \"default\"
 speech_activity = true
 motion = \"random_walk\"
 position_noise_std = 0.15
+birth_rate = 0.05
 ";
 
 /// [`SERVER_TOML`] read and checked.

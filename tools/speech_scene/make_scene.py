@@ -149,7 +149,7 @@ def server_config(room):
     return (
         "[site]\nname = \"speech_scene\"\nvolume_min = [0.0, 0.0, 0.0]\n"
         f"volume_max = [{room[0]}, {room[1]}, {room[2]}]\n\n"
-        "[filter]\nspeech_activity = true\nmotion = \"random_walk\"\nposition_noise_std = 0.1\n"
+        "[filter]\nspeech_activity = true\nmotion = \"random_walk\"\nposition_noise_std = 0.1\nbirth_rate = 0.05\n"
     )
 
 
